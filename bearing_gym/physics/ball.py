@@ -1,0 +1,219 @@
+"""Quasi-static equilibrium of one ball (paper eqs 16-31) by Newton-Raphson (eq 31) with the
+analytic Jacobian of App. C (C.1-C.33, with the C.16/C.18 errata corrected).
+
+Conventions (paper Fig. 3, eqs 18-21): in the ball's (r, z) plane the inner-groove curvature
+centre lies on the contact line *outside* the ball centre and the outer-groove centre *inside*
+it. With ``u`` the displacement of the inner-groove centre and ``v`` that of the ball centre,
+
+    inner: (L_i cos a0 + u_r - v_r, L_i sin a0 + u_z - v_z) = l_i (cos a_i, sin a_i)   (18, 20)
+    outer: (L_o cos a0 + v_r,       L_o sin a0 + v_z)       = l_o (cos a_o, sin a_o)   (19, 21)
+
+where L_i, L_o are the *nominal* distances of eqs 16-17 (ring geometry). The deflections are
+delta = l - (r - (D_b + h_j)/2 - w_j) (eqs 16-17 and 22-23: the per-ball oversize h_j and ball
+waviness w_j enter here; a gap of c at each contact at U = 0).
+
+Loss of contact (delta <= 0) gives zero Hertz force at that race (eqs 24-27) and, because a
+race out of contact cannot carry friction, zero race-control friction there too (the lambda of
+eq 28 is multiplied by the contact indicator chi). A ball with no contact at either race is
+moved against the outer race, where at speed its centrifugal force holds it; at zero speed it
+is left where it is, carrying no load.
+"""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from .hertz import contact_semi_major_axis, hertz_constant, inner_rx, outer_rx
+from .kinematics import race_control_kinematics
+from .layout import (I_COSA0, I_DB, I_DP, I_EEFF, I_GAM, I_IB, I_LI0, I_LO0, I_MB, I_NT_MAXIT,
+                     I_NT_TOL, I_RYI, I_RYO, I_SINA0)
+
+BALL_OK = 0
+BALL_NOT_CONVERGED = 1
+BALL_SINGULAR = 2
+
+# columns of the per-ball output array ``ball_out``
+B_QI = 0      # inner contact load Q_i (N)
+B_QO = 1      # outer contact load Q_o (N)
+B_CI = 2      # cos(alpha_i)
+B_SI = 3      # sin(alpha_i)
+B_CO = 4      # cos(alpha_o)
+B_SO = 5      # sin(alpha_o)
+B_WM = 6      # orbital speed omega_m (rad/s)
+B_WB = 7      # spin speed omega_b (rad/s)
+B_MG = 8      # gyroscopic moment M_g (N m)
+B_CTRL = 9    # race control used: 0 outer, 1 inner
+B_DI = 10     # inner deflection delta_i (m, negative = gap)
+B_DO = 11     # outer deflection delta_o (m)
+N_BALL_OUT = 12
+
+
+@njit(cache=True, inline="always")
+def _dg(dai, dao, dqi, dqo, dmg, dfe, qi, qo, ci, si, co, so, lam_i, lam_o, mg, db):
+    """Derivative of (g_r, g_z) (eq 28) along one ball coordinate (C.1-C.4)."""
+    dci = -si * dai
+    dsi = ci * dai
+    dco = -so * dao
+    dso = co * dao
+    dgr = (dqi * ci + qi * dci - dqo * co - qo * dco
+           + (lam_i * si - lam_o * so) * dmg / db + mg / db * (lam_i * dsi - lam_o * dso) + dfe)
+    dgz = (dqi * si + qi * dsi - dqo * so - qo * dso
+           - (lam_i * ci - lam_o * co) * dmg / db - mg / db * (lam_i * dci - lam_o * dco))
+    return dgr, dgz
+
+
+@njit(cache=True, inline="always")
+def ball_residual(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm):
+    """Residual g = (g_r, g_z) of eq 28 and its Jacobian (eq 31, App. C) at ball displacement v.
+
+    ``dist_i``, ``dist_o`` are the unloaded centre distances r - (D_b + h_j)/2 - w_j.
+    Returns (g_r, g_z, J_rr, J_rz, J_zr, J_zz, Q_i, Q_o, ci, si, co, so, omega_m, omega_b,
+    M_g, delta_i, delta_o, K_o).
+    """
+    db = prm[I_DB]
+    dp = prm[I_DP]
+    eeff = prm[I_EEFF]
+    ai_ = prm[I_LI0] * prm[I_COSA0] + ur - vr
+    bi_ = prm[I_LI0] * prm[I_SINA0] + uz - vz
+    ao_ = prm[I_LO0] * prm[I_COSA0] + vr
+    bo_ = prm[I_LO0] * prm[I_SINA0] + vz
+    li = math.sqrt(ai_ * ai_ + bi_ * bi_)                     # eq 20
+    lo = math.sqrt(ao_ * ao_ + bo_ * bo_)                     # eq 21
+    ci = ai_ / li
+    si = bi_ / li                                             # eq 18
+    co = ao_ / lo
+    so = bo_ / lo                                             # eq 19
+    di = li - dist_i                                          # eq 22
+    do = lo - dist_o                                          # eq 23
+    # Hertz (eqs 24-27, App. A)
+    rxi, drxi = inner_rx(db, dp, ci, si)
+    rxo, drxo = outer_rx(db, dp, co, so)
+    ki, dki = hertz_constant(rxi, prm[I_RYI], eeff)
+    ko, dko = hertz_constant(rxo, prm[I_RYO], eeff)
+    # derivatives of the angles and distances w.r.t. (v_r, v_z) (C.5, C.6)
+    dai_r = si / li
+    dai_z = -ci / li
+    dao_r = -so / lo
+    dao_z = co / lo
+    if di > 0.0:
+        sq = math.sqrt(di)
+        qi = ki * di * sq
+        dqi_da = di * sq * dki * drxi
+        dqi_dl = 1.5 * ki * sq
+        chi_i = 1.0
+    else:
+        qi = 0.0
+        dqi_da = 0.0
+        dqi_dl = 0.0
+        chi_i = 0.0
+    if do > 0.0:
+        sq = math.sqrt(do)
+        qo = ko * do * sq
+        dqo_da = do * sq * dko * drxo
+        dqo_dl = 1.5 * ko * sq
+        chi_o = 1.0
+    else:
+        qo = 0.0
+        dqo_da = 0.0
+        dqo_dl = 0.0
+        chi_o = 0.0
+    dqi_r = dqi_da * dai_r - dqi_dl * ci                      # C.7
+    dqi_z = dqi_da * dai_z - dqi_dl * si                      # C.9
+    dqo_r = dqo_da * dao_r + dqo_dl * co                      # C.8
+    dqo_z = dqo_da * dao_z + dqo_dl * so                      # C.10
+    # race control (App. B), eqs 29-30
+    wm, dwm_i, dwm_o, mg, dmg_i, dmg_o, wb, beta = race_control_kinematics(
+        ci, si, co, so, omega, prm[I_GAM], prm[I_IB], inner_control)
+    if inner_control:
+        lam_i = chi_i
+        lam_o = chi_o
+    else:
+        lam_i = 0.0
+        lam_o = 2.0 * chi_o
+    mb = prm[I_MB]
+    rad = dp + 2.0 * vr
+    fe = 0.5 * rad * mb * wm * wm                             # eq 29
+    dwm_r = dwm_i * dai_r + dwm_o * dao_r
+    dwm_z = dwm_i * dai_z + dwm_o * dao_z
+    dfe_r = mb * wm * (rad * dwm_r + wm)                      # C.19
+    dfe_z = mb * wm * rad * dwm_z                             # C.20
+    dmg_r = dmg_i * dai_r + dmg_o * dao_r                     # C.21
+    dmg_z = dmg_i * dai_z + dmg_o * dao_z
+    gr = qi * ci - qo * co + (lam_i * si - lam_o * so) * mg / db + fe      # eq 28
+    gz = qi * si - qo * so - (lam_i * ci - lam_o * co) * mg / db
+    jrr, jzr = _dg(dai_r, dao_r, dqi_r, dqo_r, dmg_r, dfe_r, qi, qo, ci, si, co, so,
+                   lam_i, lam_o, mg, db)
+    jrz, jzz = _dg(dai_z, dao_z, dqi_z, dqo_z, dmg_z, dfe_z, qi, qo, ci, si, co, so,
+                   lam_i, lam_o, mg, db)
+    return gr, gz, jrr, jrz, jzr, jzz, qi, qo, ci, si, co, so, wm, wb, mg, di, do, ko
+
+
+@njit(cache=True, inline="always")
+def prefers_outer_control(qi, qo, ci, si, co, so, prm):
+    """Jones/Harris race-control criterion: outer-race control when
+    Q_o a_o E(k_o) cos(alpha_i - alpha_o) > Q_i a_i E(k_i) (spin-friction torques)."""
+    db = prm[I_DB]
+    dp = prm[I_DP]
+    rxi = db * (dp - db * ci) / (2.0 * dp)
+    rxo = db * (dp + db * co) / (2.0 * dp)
+    a_i, e_i = contact_semi_major_axis(qi, rxi, prm[I_RYI], prm[I_EEFF])
+    a_o, e_o = contact_semi_major_axis(qo, rxo, prm[I_RYO], prm[I_EEFF])
+    return qo * a_o * e_o * (ci * co + si * so) > qi * a_i * e_i
+
+
+@njit(cache=True, inline="always")
+def solve_ball(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm, out, j):
+    """Newton-Raphson (eq 31) for one ball, warm-started at (vr, vz).
+
+    Writes the converged contact state into ``out[j, :]`` (columns ``B_*``) and returns
+    (v_r, v_z, status). The step is limited to a tenth of the outer-groove free distance so a
+    poor start cannot throw the ball out of the groove.
+    """
+    tol = prm[I_NT_TOL]
+    maxit = int(prm[I_NT_MAXIT])
+    max_step = 0.1 * (prm[I_LO0] + 1e-9)
+    status = BALL_NOT_CONVERGED
+    for _ in range(maxit + 1):
+        (gr, gz, jrr, jrz, jzr, jzz, qi, qo, ci, si, co, so, wm, wb, mg, di, do,
+         ko) = ball_residual(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm)
+        if di <= 0.0 and do <= 0.0:
+            fe = 0.5 * (prm[I_DP] + 2.0 * vr) * prm[I_MB] * wm * wm
+            if fe > 0.0:
+                # free ball at speed: put it against the outer race, where the Hertz load
+                # balances its centrifugal force
+                target = dist_o + (fe / ko) ** (2.0 / 3.0)
+                vr = target * co - prm[I_LO0] * prm[I_COSA0]
+                vz = target * so - prm[I_LO0] * prm[I_SINA0]
+                continue
+            status = BALL_OK            # unloaded ball at rest: no force, keep its position
+            break
+        det = jrr * jzz - jrz * jzr
+        if not (det != 0.0 and math.isfinite(det)):
+            status = BALL_SINGULAR
+            break
+        dvr = -(jzz * gr - jrz * gz) / det
+        dvz = -(-jzr * gr + jrr * gz) / det
+        step = max(abs(dvr), abs(dvz))
+        if step < tol:
+            status = BALL_OK
+            break
+        if step > max_step:
+            dvr *= max_step / step
+            dvz *= max_step / step
+        vr += dvr
+        vz += dvz
+    out[j, B_QI] = qi
+    out[j, B_QO] = qo
+    out[j, B_CI] = ci
+    out[j, B_SI] = si
+    out[j, B_CO] = co
+    out[j, B_SO] = so
+    out[j, B_WM] = wm
+    out[j, B_WB] = wb
+    out[j, B_MG] = mg
+    out[j, B_CTRL] = 1.0 if inner_control else 0.0
+    out[j, B_DI] = di
+    out[j, B_DO] = do
+    return vr, vz, status

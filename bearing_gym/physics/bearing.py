@@ -1,0 +1,103 @@
+"""Bearing force vector: transformation (eqs 3-6), ball contact forces on the inner race
+(eq 32, with the z- and phi-row errata corrected) and their sum (eq 33); cage speed (eq 7)."""
+
+from __future__ import annotations
+
+import math
+
+from numba import njit
+
+from .ball import B_CTRL, B_QI, B_WM, BALL_OK, prefers_outer_control, solve_ball
+from .layout import (CONTROL_AUTO, CONTROL_INNER, I_CONTROL, I_DB, I_NB, I_OMEGA, I_PHI0, I_RI,
+                     I_RP, I_ZP)
+from .waviness import ball_waviness, race_waviness
+
+
+@njit(cache=True, inline="always")
+def ball_angle(j, n_balls, cage_angle, phi0):
+    """Angular location of ball j (eq 6, j counted from 0)."""
+    return 2.0 * math.pi * j / n_balls + cage_angle + phi0
+
+
+@njit(cache=True)
+def bearing_force(U, cage_angle, shaft_angle, psi_b, prm, race_wav, ball_wav, ball_phase,
+                  ball_size, ball_v, ball_out, F):
+    """Total bearing force on the rotor, F = sum_j T_j^T Q_j (eqs 3-5, 32-33), written into F.
+
+    ``U`` = (x, y, z, theta_x, theta_y); ``ball_v`` (N, 2) holds each ball's (v_r, v_z), used as
+    the Newton warm start and overwritten with the solution; ``ball_out`` receives the contact
+    state (``ball.B_*`` columns). Returns the worst ball status (0 = all converged).
+    """
+    n = int(prm[I_NB])
+    db = prm[I_DB]
+    ri = prm[I_RI]
+    omega = prm[I_OMEGA]
+    control = int(prm[I_CONTROL])
+    half_db = 0.5 * db
+    for k in range(5):
+        F[k] = 0.0
+    worst = BALL_OK
+    for j in range(n):
+        phi = ball_angle(j, n, cage_angle, prm[I_PHI0])
+        c = math.cos(phi)
+        s = math.sin(phi)
+        p_i, q_i, p_o, q_o = race_waviness(race_wav, phi, shaft_angle)
+        w_i, w_o = ball_waviness(ball_wav, ball_phase, j, psi_b[j])
+        zp = prm[I_ZP] + q_i
+        rp = prm[I_RP] + p_i
+        # eq 3-5: u = T U + dW
+        ur = U[0] * c + U[1] * s + zp * (-U[3] * s + U[4] * c) + (p_i - p_o)
+        uz = U[2] + rp * (U[3] * s - U[4] * c) + (q_i - q_o)
+        size = half_db + 0.5 * ball_size[j]
+        dist_i = ri - size - w_i                      # eq 16 + c_i
+        dist_o = prm[I_RI + 1] - size - w_o           # eq 17 + c_o (I_RO = I_RI + 1)
+        if control == CONTROL_AUTO:
+            inner_ctrl = ball_out[j, B_CTRL] > 0.5
+        else:
+            inner_ctrl = control == CONTROL_INNER
+        vr, vz, st = solve_ball(ball_v[j, 0], ball_v[j, 1], ur, uz, dist_i, dist_o, omega,
+                                inner_ctrl, prm, ball_out, j)
+        if control == CONTROL_AUTO and st == BALL_OK:
+            want_outer = prefers_outer_control(ball_out[j, 0], ball_out[j, 1], ball_out[j, 2],
+                                               ball_out[j, 3], ball_out[j, 4], ball_out[j, 5], prm)
+            if want_outer == inner_ctrl:
+                inner_ctrl = not inner_ctrl
+                vr, vz, st = solve_ball(vr, vz, ur, uz, dist_i, dist_o, omega, inner_ctrl,
+                                        prm, ball_out, j)
+        ball_v[j, 0] = vr
+        ball_v[j, 1] = vz
+        if st > worst:
+            worst = st
+        qi = ball_out[j, 0]
+        ci = ball_out[j, 2]
+        si = ball_out[j, 3]
+        mg = ball_out[j, 8]
+        lam_i = 1.0 if (inner_ctrl and qi > 0.0) else 0.0
+        # eq 32 (corrected): force and moment of ball j on the inner race
+        q_r = -qi * ci - lam_i * mg / db * si
+        q_z = -qi * si + lam_i * mg / db * ci
+        q_phi = lam_i * mg * ri / db
+        # eq 33: F += T_j^T Q_j
+        F[0] += c * q_r
+        F[1] += s * q_r
+        F[2] += q_z
+        F[3] += -zp * s * q_r + rp * s * q_z - s * q_phi
+        F[4] += zp * c * q_r - rp * c * q_z + c * q_phi
+    return worst
+
+
+@njit(cache=True, inline="always")
+def cage_speed(ball_out, n_balls, previous):
+    """Cage speed, eq 7: mean orbital speed of the balls touching the inner race.
+
+    With no ball on the inner race the cage is not driven; it keeps ``previous`` (it coasts).
+    """
+    total = 0.0
+    count = 0
+    for j in range(n_balls):
+        if ball_out[j, B_QI] > 0.0:
+            total += ball_out[j, B_WM]
+            count += 1
+    if count == 0:
+        return previous
+    return total / count

@@ -1,0 +1,167 @@
+"""Layout of the flat float64 arrays handed to the numba kernels.
+
+The frozen dataclasses of :mod:`bearing_gym.params` are converted once, here, to:
+
+* ``prm``: one float64 vector of scalar constants, indexed by the ``I_*`` constants below
+  (numba treats module-level integers as compile-time constants);
+* ``race_wav``: (n_terms, 5) rows ``[race, kind, order, amplitude_m, phase_rad]`` with race 0 =
+  inner, 1 = outer and kind 0 = radial (p), 1 = axial (q) (eqs 9-12);
+* ``ball_wav``: (n_terms, 2) rows ``[order, amplitude_m]`` and ``ball_phase`` (N, n_terms)
+  (eqs 13-14);
+* ``ball_size``: (N,) ball oversize h_j (eqs 16-17).
+"""
+
+from __future__ import annotations
+
+import math
+from typing import TYPE_CHECKING, NamedTuple
+
+import numpy as np
+
+if TYPE_CHECKING:  # pragma: no cover
+    from bearing_gym.params import BearingParams
+
+# geometry and material
+I_NB = 0          # number of balls N
+I_DB = 1          # ball diameter D_b
+I_DP = 2          # pitch diameter D_p
+I_RI = 3          # inner groove radius r_i
+I_RO = 4          # outer groove radius r_o
+I_COSA0 = 5       # cos(alpha_0)
+I_SINA0 = 6       # sin(alpha_0)
+I_CI = 7          # clearance c_i
+I_CO = 8          # clearance c_o
+I_EEFF = 9        # E / (1 - nu^2)
+I_MB = 10         # ball mass m_b
+I_IB = 11         # ball inertia I_b
+I_GAM = 12        # gamma = D_b / D_p
+I_RP = 13         # r_p: radius of the inner groove-centre locus (eq 4)
+I_ZP = 14         # z_p: axial offset of the inner groove-centre locus (eq 4)
+I_LI0 = 15        # nominal L_i (eq 16 without ball terms) used for the geometry of eqs 18-21
+I_LO0 = 16        # nominal L_o (eq 17 without ball terms)
+I_RYI = 17        # R_y of the inner contact (A.6)
+I_RYO = 18        # R_y of the outer contact (A.7)
+I_CONTROL = 19    # race control: 0 outer, 1 inner, 2 auto (Jones/Harris)
+I_PHI0 = 20       # initial cage angle phi_0 (eq 6)
+# rotor
+I_MASS = 21
+I_IR = 22
+I_IZ = 23
+I_ECC = 24
+# loads and speed (settable between advance calls)
+I_PX = 25
+I_PY = 26
+I_PZ = 27
+I_OMEGA = 28      # shaft speed omega (rad/s)
+# damping coefficients (x, y, z, theta_x, theta_y)
+I_CX = 29
+I_CY = 30
+I_CZ = 31
+I_CTX = 32
+I_CTY = 33
+# integrator
+I_DT = 34
+I_NBETA = 35
+I_NGAMMA = 36
+I_NM_TOL = 37
+I_NM_MAXIT = 38
+I_NT_TOL = 39
+I_NT_MAXIT = 40
+I_DIVLIM = 41
+N_PRM = 42
+
+CONTROL_OUTER = 0
+CONTROL_INNER = 1
+CONTROL_AUTO = 2
+_CONTROL_CODES = {"outer": CONTROL_OUTER, "inner": CONTROL_INNER, "auto": CONTROL_AUTO}
+
+
+class PackedParams(NamedTuple):
+    prm: np.ndarray
+    race_wav: np.ndarray
+    ball_wav: np.ndarray
+    ball_phase: np.ndarray
+    ball_size: np.ndarray
+
+
+def pack_params(p: "BearingParams", damping_coefficients: np.ndarray | None = None) -> PackedParams:
+    """Convert validated parameters to the flat arrays of this module (done once per Simulator).
+
+    ``damping_coefficients`` (5,) overrides ``p.damping``; when both are absent the damping
+    entries are zero (the Simulator fills them from the static-equilibrium stiffness).
+    """
+    g, mat, rot, ld, integ = p.geometry, p.material, p.rotor, p.loads, p.integrator
+    prm = np.zeros(N_PRM)
+    db, dp = g.ball_diameter_m, g.pitch_diameter_m
+    ri, ro = g.inner_groove_radius_m, g.outer_groove_radius_m
+    a0 = g.contact_angle_rad
+    li0 = ri - db / 2.0 - g.clearance_inner_m
+    lo0 = ro - db / 2.0 - g.clearance_outer_m
+    prm[I_NB] = g.n_balls
+    prm[I_DB] = db
+    prm[I_DP] = dp
+    prm[I_RI] = ri
+    prm[I_RO] = ro
+    prm[I_COSA0] = math.cos(a0)
+    prm[I_SINA0] = math.sin(a0)
+    prm[I_CI] = g.clearance_inner_m
+    prm[I_CO] = g.clearance_outer_m
+    prm[I_EEFF] = mat.youngs_modulus_pa / (1.0 - mat.poisson_ratio ** 2)
+    prm[I_MB] = p.ball_mass_kg
+    prm[I_IB] = p.ball_inertia_kg_m2
+    prm[I_GAM] = db / dp
+    # the inner groove centre lies on the nominal contact line, radially outside the ball
+    # centre (paper-notes; consistent with eqs 18-19): r_p = D_p/2 + L_i cos a0, z_p = L_i sin a0
+    prm[I_RP] = dp / 2.0 + li0 * math.cos(a0)
+    prm[I_ZP] = li0 * math.sin(a0)
+    prm[I_LI0] = li0
+    prm[I_LO0] = lo0
+    prm[I_RYI] = ri / (2.0 * ri / db - 1.0)
+    prm[I_RYO] = ro / (2.0 * ro / db - 1.0)
+    prm[I_CONTROL] = _CONTROL_CODES[p.race_control]
+    prm[I_PHI0] = p.initial_cage_angle_rad
+    prm[I_MASS] = rot.mass_kg
+    prm[I_IR] = rot.inertia_radial_kg_m2
+    prm[I_IZ] = rot.inertia_polar_kg_m2
+    prm[I_ECC] = rot.eccentricity_m
+    prm[I_PX] = ld.radial_load_x_n
+    prm[I_PY] = ld.radial_load_y_n
+    prm[I_PZ] = ld.axial_preload_n
+    prm[I_OMEGA] = p.shaft_speed_rad_s
+    if damping_coefficients is None and p.damping.coefficients is not None:
+        damping_coefficients = np.asarray(p.damping.coefficients, dtype=np.float64)
+    if damping_coefficients is not None:
+        prm[I_CX:I_CTY + 1] = damping_coefficients
+    prm[I_DT] = integ.dt_s
+    prm[I_NBETA] = integ.newmark_beta
+    prm[I_NGAMMA] = integ.newmark_gamma
+    prm[I_NM_TOL] = integ.newmark_tol_m
+    prm[I_NM_MAXIT] = integ.newmark_max_iter
+    prm[I_NT_TOL] = integ.newton_tol_m
+    prm[I_NT_MAXIT] = integ.newton_max_iter
+    prm[I_DIVLIM] = integ.divergence_limit_m
+
+    rows = []
+    for race_code, rw in ((0, p.waviness.inner), (1, p.waviness.outer)):
+        for k, n in enumerate(rw.orders):
+            if rw.radial_amplitudes_m[k] != 0.0:
+                rows.append((race_code, 0, n, rw.radial_amplitudes_m[k], rw.radial_phases_rad[k]))
+            if rw.axial_amplitudes_m[k] != 0.0:
+                rows.append((race_code, 1, n, rw.axial_amplitudes_m[k], rw.axial_phases_rad[k]))
+    race_wav = np.array(rows, dtype=np.float64).reshape(-1, 5)
+
+    bw = p.waviness.balls
+    n_balls = g.n_balls
+    keep = [k for k, a in enumerate(bw.amplitudes_m) if a != 0.0]
+    ball_wav = np.array([(bw.orders[k], bw.amplitudes_m[k]) for k in keep],
+                        dtype=np.float64).reshape(-1, 2)
+    ball_phase = np.zeros((n_balls, len(keep)))
+    if keep:
+        if isinstance(bw.phases_rad[0], tuple):
+            ball_phase[:] = np.array(bw.phases_rad, dtype=np.float64)[:, keep]
+        else:
+            ball_phase[:] = np.array(bw.phases_rad, dtype=np.float64)[keep][None, :]
+    ball_size = np.zeros(n_balls)
+    if bw.oversize_m:
+        ball_size[:] = bw.oversize_m
+    return PackedParams(prm, race_wav, ball_wav, ball_phase, ball_size)

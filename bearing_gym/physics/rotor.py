@@ -1,0 +1,178 @@
+"""Rotor equations of motion (paper eq 35) with viscous damping, and the Newmark-beta
+integrator with equilibrium iterations at every step (section 2.4).
+
+Eq 35 with the damping the paper leaves out (see ``params.Damping``):
+
+    m x''  + c_x x'  = F_x + P_x + m e omega^2 cos(theta_s)
+    m y''  + c_y y'  = F_y + P_y + m e omega^2 sin(theta_s)
+    m z''  + c_z z'  = F_z + P
+    I_r tx'' + c_tx tx' + I_z omega ty' = M_x
+    I_r ty'' + c_ty ty' - I_z omega tx' = M_y
+
+theta_s is the shaft angle (omega t at constant speed). The bearing force depends on the
+displacement only (the balls are quasi-static), so each Newmark step is solved by fixed-point
+iteration on the displacement: for a given F(X_{n+1}) the acceleration follows from the
+linear system (M + gamma dt (C + G)) a = F + P - (C + G) v*, with v* = v_n + (1 - gamma) dt a_n,
+then X_{n+1} = X_n + dt v_n + dt^2 ((1/2 - beta) a_n + beta a_{n+1}); the iteration contracts
+by beta (omega_max dt)^2 per pass. The cage angle (eq 8) and the ball spin angles (eq 15)
+advance explicitly with the speeds of the previous step.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from .ball import B_WB
+from .bearing import bearing_force, cage_speed
+from .layout import (I_CTX, I_CTY, I_CX, I_CY, I_CZ, I_DIVLIM, I_DT, I_ECC, I_IR, I_IZ, I_MASS,
+                     I_NB, I_NBETA, I_NGAMMA, I_NM_MAXIT, I_NM_TOL, I_OMEGA, I_PX, I_PY, I_PZ,
+                     I_RP)
+
+# status codes of integrate()
+ST_OK = 0
+ST_BALL_NOT_CONVERGED = 1
+ST_BALL_SINGULAR = 2
+ST_NEWMARK_NOT_CONVERGED = 3
+ST_DIVERGED = 4
+
+# scalar state vector ``scal``
+S_T = 0            # time (s)
+S_SHAFT = 1        # shaft angle theta_s (rad)
+S_CAGE = 2         # cage angle psi_c (rad), eq 8
+S_CAGE_SPEED = 3   # cage speed omega_c (rad/s), eq 7
+N_SCAL = 4
+
+# record columns
+R_T = 0
+R_X = 1            # 1..5: x, y, z, theta_x, theta_y
+R_V = 6            # 6..10: velocities
+R_CAGE_SPEED = 11
+R_CAGE_ANGLE = 12
+R_F = 13           # 13..17: bearing force F_x, F_y, F_z, M_x, M_y
+R_SHAFT = 18
+R_N_INNER = 19     # number of balls touching the inner race
+N_REC = 20
+
+
+@njit(cache=True, inline="always")
+def solve_acceleration(F, prm, t_shaft, vstar, a_out):
+    """Solve eq 35 (with damping) for the acceleration at velocity v = v* + gamma dt a.
+
+    (M + gamma dt (C + G)) a = F + P + unbalance - (C + G) v*.
+    """
+    m = prm[I_MASS]
+    ir = prm[I_IR]
+    omega = prm[I_OMEGA]
+    gdt = prm[I_NGAMMA] * prm[I_DT]
+    unb = m * prm[I_ECC] * omega * omega
+    a_out[0] = (F[0] + prm[I_PX] + unb * math.cos(t_shaft) - prm[I_CX] * vstar[0]) / (m + gdt * prm[I_CX])
+    a_out[1] = (F[1] + prm[I_PY] + unb * math.sin(t_shaft) - prm[I_CY] * vstar[1]) / (m + gdt * prm[I_CY])
+    a_out[2] = (F[2] + prm[I_PZ] - prm[I_CZ] * vstar[2]) / (m + gdt * prm[I_CZ])
+    g = prm[I_IZ] * omega
+    # [[ir + gdt ctx, gdt g], [-gdt g, ir + gdt cty]] (atx, aty) = (rx, ry)
+    rx = F[3] - prm[I_CTX] * vstar[3] - g * vstar[4]
+    ry = F[4] - prm[I_CTY] * vstar[4] + g * vstar[3]
+    a11 = ir + gdt * prm[I_CTX]
+    a12 = gdt * g
+    a21 = -gdt * g
+    a22 = ir + gdt * prm[I_CTY]
+    det = a11 * a22 - a12 * a21
+    a_out[3] = (a22 * rx - a12 * ry) / det
+    a_out[4] = (-a21 * rx + a11 * ry) / det
+
+
+@njit(cache=True)
+def integrate(prm, race_wav, ball_wav, ball_phase, ball_size, X, V, A, scal, psi_b, ball_v,
+              ball_out, n_steps, record_every, rec):
+    """Advance the rotor-bearing system ``n_steps`` Newmark steps in place.
+
+    State: X, V, A (5,), ``scal`` (S_* entries), ball spin angles ``psi_b`` (N,), ball
+    displacements ``ball_v`` (N, 2) and contact state ``ball_out``. Every ``record_every``
+    steps one row of ``rec`` (R_* columns) is written. Returns (status, steps_done, rows).
+    No allocation happens inside the step loop.
+    """
+    n = int(prm[I_NB])
+    dt = prm[I_DT]
+    beta = prm[I_NBETA]
+    gam = prm[I_NGAMMA]
+    tol = prm[I_NM_TOL]
+    maxit = int(prm[I_NM_MAXIT])
+    divlim = prm[I_DIVLIM]
+    omega = prm[I_OMEGA]
+    rot_scale = prm[I_RP]          # rotations compared as displacements at the groove radius
+    F = np.zeros(5)
+    Xn = np.zeros(5)
+    a_new = np.zeros(5)
+    vstar = np.zeros(5)
+    base = np.zeros(5)
+    status = ST_OK
+    rows = 0
+    done = 0
+    for step in range(n_steps):
+        # explicit kinematic updates, eqs 8 and 15
+        scal[S_T] += dt
+        scal[S_SHAFT] += omega * dt
+        scal[S_CAGE] += scal[S_CAGE_SPEED] * dt
+        for j in range(n):
+            psi_b[j] += ball_out[j, B_WB] * dt
+        for k in range(5):
+            vstar[k] = V[k] + (1.0 - gam) * dt * A[k]
+            base[k] = X[k] + dt * V[k] + (0.5 - beta) * dt * dt * A[k]
+            Xn[k] = base[k] + beta * dt * dt * A[k]      # predictor: a_{n+1} = a_n
+        converged = False
+        for it in range(maxit):
+            st = bearing_force(Xn, scal[S_CAGE], scal[S_SHAFT], psi_b, prm, race_wav, ball_wav,
+                               ball_phase, ball_size, ball_v, ball_out, F)
+            if st != 0:
+                status = st
+                break
+            solve_acceleration(F, prm, scal[S_SHAFT], vstar, a_new)
+            diff = 0.0
+            for k in range(5):
+                x_new = base[k] + beta * dt * dt * a_new[k]
+                d = abs(x_new - Xn[k])
+                if k >= 3:
+                    d *= rot_scale
+                if d > diff:
+                    diff = d
+                Xn[k] = x_new
+            if diff < tol:
+                converged = True
+                break
+        if status != ST_OK:
+            break
+        if not converged:
+            status = ST_NEWMARK_NOT_CONVERGED
+            break
+        bad = False
+        for k in range(5):
+            X[k] = Xn[k]
+            A[k] = a_new[k]
+            V[k] = vstar[k] + gam * dt * a_new[k]
+            if not math.isfinite(X[k]) or not math.isfinite(V[k]):
+                bad = True
+        if bad or abs(X[0]) > divlim or abs(X[1]) > divlim or abs(X[2]) > divlim \
+                or abs(X[3]) * rot_scale > divlim or abs(X[4]) * rot_scale > divlim:
+            status = ST_DIVERGED
+            break
+        scal[S_CAGE_SPEED] = cage_speed(ball_out, n, scal[S_CAGE_SPEED])
+        done += 1
+        if done % record_every == 0 and rows < rec.shape[0]:
+            rec[rows, R_T] = scal[S_T]
+            n_inner = 0
+            for j in range(n):
+                if ball_out[j, 0] > 0.0:
+                    n_inner += 1
+            for k in range(5):
+                rec[rows, R_X + k] = X[k]
+                rec[rows, R_V + k] = V[k]
+                rec[rows, R_F + k] = F[k]
+            rec[rows, R_CAGE_SPEED] = scal[S_CAGE_SPEED]
+            rec[rows, R_CAGE_ANGLE] = scal[S_CAGE]
+            rec[rows, R_SHAFT] = scal[S_SHAFT]
+            rec[rows, R_N_INNER] = n_inner
+            rows += 1
+    return status, done, rows
