@@ -299,7 +299,7 @@ class Integrator:
     """Newmark-beta time integration with equilibrium iterations at every step, and the
     per-ball Newton-Raphson solver (eq 31)."""
 
-    dt_s: float = 5.0e-6
+    dt_s: float = 1.0e-5
     newmark_beta: float = 0.25
     newmark_gamma: float = 0.5
     newmark_tol_m: float = 1.0e-13

@@ -13,10 +13,14 @@ delta = l - (r - (D_b + h_j)/2 - w_j) (eqs 16-17 and 22-23: the per-ball oversiz
 waviness w_j enter here; a gap of c at each contact at U = 0).
 
 Loss of contact (delta <= 0) gives zero Hertz force at that race (eqs 24-27) and, because a
-race out of contact cannot carry friction, zero race-control friction there too (the lambda of
-eq 28 is multiplied by the contact indicator chi). A ball with no contact at either race is
-moved against the outer race, where at speed its centrifugal force holds it; at zero speed it
-is left where it is, carrying no load.
+race out of contact cannot carry friction, zero race-control friction there too: the lambda of
+eq 28 is multiplied by a contact factor that rises smoothly from 0 at delta = 0 to 1 at
+delta = ``FRICTION_ONSET_M`` (1 um, a tenth of a working deflection; under
+outer-race control at speed the outer contacts sit far above it). A hard on/off factor
+would make g jump by lambda M_g / D_b (hundreds of newtons under inner-race control at speed)
+and leave Newton cycling around a contact that has no equilibrium on either side. A ball with
+no contact at either race is moved against the outer race, where at speed its centrifugal force
+holds it; at zero speed it is left where it is, carrying no load.
 """
 
 from __future__ import annotations
@@ -47,20 +51,37 @@ B_MG = 8      # gyroscopic moment M_g (N m)
 B_CTRL = 9    # race control used: 0 outer, 1 inner
 B_DI = 10     # inner deflection delta_i (m, negative = gap)
 B_DO = 11     # outer deflection delta_o (m)
-N_BALL_OUT = 12
+B_LAMI = 12   # effective race-control factor lambda_i of eq 32 (friction on the inner race)
+N_BALL_OUT = 13
+
+FRICTION_ONSET_M = 1.0e-6
 
 
 @njit(cache=True, inline="always")
-def _dg(dai, dao, dqi, dqo, dmg, dfe, qi, qo, ci, si, co, so, lam_i, lam_o, mg, db):
+def contact_factor(delta):
+    """Smooth 0 -> 1 contact indicator for the race-control friction and its derivative."""
+    if delta <= 0.0:
+        return 0.0, 0.0
+    if delta >= FRICTION_ONSET_M:
+        return 1.0, 0.0
+    x = delta / FRICTION_ONSET_M
+    return x * x * (3.0 - 2.0 * x), 6.0 * x * (1.0 - x) / FRICTION_ONSET_M
+
+
+@njit(cache=True, inline="always")
+def _dg(dai, dao, dqi, dqo, dmg, dfe, dlam_i, dlam_o, qi, qo, ci, si, co, so, lam_i, lam_o, mg,
+        db):
     """Derivative of (g_r, g_z) (eq 28) along one ball coordinate (C.1-C.4)."""
     dci = -si * dai
     dsi = ci * dai
     dco = -so * dao
     dso = co * dao
     dgr = (dqi * ci + qi * dci - dqo * co - qo * dco
-           + (lam_i * si - lam_o * so) * dmg / db + mg / db * (lam_i * dsi - lam_o * dso) + dfe)
+           + (lam_i * si - lam_o * so) * dmg / db + mg / db * (lam_i * dsi - lam_o * dso)
+           + (dlam_i * si - dlam_o * so) * mg / db + dfe)
     dgz = (dqi * si + qi * dsi - dqo * so - qo * dso
-           - (lam_i * ci - lam_o * co) * dmg / db - mg / db * (lam_i * dci - lam_o * dco))
+           - (lam_i * ci - lam_o * co) * dmg / db - mg / db * (lam_i * dci - lam_o * dco)
+           - (dlam_i * ci - dlam_o * co) * mg / db)
     return dgr, dgz
 
 
@@ -70,7 +91,7 @@ def ball_residual(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm):
 
     ``dist_i``, ``dist_o`` are the unloaded centre distances r - (D_b + h_j)/2 - w_j.
     Returns (g_r, g_z, J_rr, J_rz, J_zr, J_zz, Q_i, Q_o, ci, si, co, so, omega_m, omega_b,
-    M_g, delta_i, delta_o, K_o).
+    M_g, delta_i, delta_o, K_o, lambda_i).
     """
     db = prm[I_DB]
     dp = prm[I_DP]
@@ -126,12 +147,23 @@ def ball_residual(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm):
     # race control (App. B), eqs 29-30
     wm, dwm_i, dwm_o, mg, dmg_i, dmg_o, wb, beta = race_control_kinematics(
         ci, si, co, so, omega, prm[I_GAM], prm[I_IB], inner_control)
+    s_i, ds_i = contact_factor(di)
+    s_o, ds_o = contact_factor(do)
     if inner_control:
-        lam_i = chi_i
-        lam_o = chi_o
+        lam_i = s_i
+        lam_o = s_o
+        dlam_i = ds_i
+        dlam_o = ds_o
     else:
         lam_i = 0.0
-        lam_o = 2.0 * chi_o
+        lam_o = 2.0 * s_o
+        dlam_i = 0.0
+        dlam_o = 2.0 * ds_o
+    # d(lambda)/dv through the deflections: d delta_i/dv = -(ci, si), d delta_o/dv = (co, so)
+    dlam_i_r = -dlam_i * ci
+    dlam_i_z = -dlam_i * si
+    dlam_o_r = dlam_o * co
+    dlam_o_z = dlam_o * so
     mb = prm[I_MB]
     rad = dp + 2.0 * vr
     fe = 0.5 * rad * mb * wm * wm                             # eq 29
@@ -143,11 +175,11 @@ def ball_residual(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm):
     dmg_z = dmg_i * dai_z + dmg_o * dao_z
     gr = qi * ci - qo * co + (lam_i * si - lam_o * so) * mg / db + fe      # eq 28
     gz = qi * si - qo * so - (lam_i * ci - lam_o * co) * mg / db
-    jrr, jzr = _dg(dai_r, dao_r, dqi_r, dqo_r, dmg_r, dfe_r, qi, qo, ci, si, co, so,
-                   lam_i, lam_o, mg, db)
-    jrz, jzz = _dg(dai_z, dao_z, dqi_z, dqo_z, dmg_z, dfe_z, qi, qo, ci, si, co, so,
-                   lam_i, lam_o, mg, db)
-    return gr, gz, jrr, jrz, jzr, jzz, qi, qo, ci, si, co, so, wm, wb, mg, di, do, ko
+    jrr, jzr = _dg(dai_r, dao_r, dqi_r, dqo_r, dmg_r, dfe_r, dlam_i_r, dlam_o_r, qi, qo, ci, si,
+                   co, so, lam_i, lam_o, mg, db)
+    jrz, jzz = _dg(dai_z, dao_z, dqi_z, dqo_z, dmg_z, dfe_z, dlam_i_z, dlam_o_z, qi, qo, ci, si,
+                   co, so, lam_i, lam_o, mg, db)
+    return gr, gz, jrr, jrz, jzr, jzz, qi, qo, ci, si, co, so, wm, wb, mg, di, do, ko, lam_i
 
 
 @njit(cache=True, inline="always")
@@ -175,9 +207,15 @@ def solve_ball(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm, out, j
     maxit = int(prm[I_NT_MAXIT])
     max_step = 0.1 * (prm[I_LO0] + 1e-9)
     status = BALL_NOT_CONVERGED
+    prev_norm = math.inf
+    prev_vr = vr
+    prev_vz = vz
+    dvr = 0.0
+    dvz = 0.0
+    halvings = 0
     for _ in range(maxit + 1):
         (gr, gz, jrr, jrz, jzr, jzz, qi, qo, ci, si, co, so, wm, wb, mg, di, do,
-         ko) = ball_residual(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm)
+         ko, lam_i) = ball_residual(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm)
         if di <= 0.0 and do <= 0.0:
             fe = 0.5 * (prm[I_DP] + 2.0 * vr) * prm[I_MB] * wm * wm
             if fe > 0.0:
@@ -186,9 +224,20 @@ def solve_ball(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm, out, j
                 target = dist_o + (fe / ko) ** (2.0 / 3.0)
                 vr = target * co - prm[I_LO0] * prm[I_COSA0]
                 vz = target * so - prm[I_LO0] * prm[I_SINA0]
+                prev_norm = math.inf
                 continue
             status = BALL_OK            # unloaded ball at rest: no force, keep its position
             break
+        norm = max(abs(gr), abs(gz))
+        if norm > prev_norm and halvings < 30:
+            # backtracking: the last Newton step made things worse; try half of it
+            halvings += 1
+            dvr *= 0.5
+            dvz *= 0.5
+            vr = prev_vr + dvr
+            vz = prev_vz + dvz
+            continue
+        halvings = 0
         det = jrr * jzz - jrz * jzr
         if not (det != 0.0 and math.isfinite(det)):
             status = BALL_SINGULAR
@@ -202,6 +251,9 @@ def solve_ball(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm, out, j
         if step > max_step:
             dvr *= max_step / step
             dvz *= max_step / step
+        prev_norm = norm
+        prev_vr = vr
+        prev_vz = vz
         vr += dvr
         vz += dvz
     out[j, B_QI] = qi
@@ -216,4 +268,5 @@ def solve_ball(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm, out, j
     out[j, B_CTRL] = 1.0 if inner_control else 0.0
     out[j, B_DI] = di
     out[j, B_DO] = do
+    out[j, B_LAMI] = lam_i
     return vr, vz, status

@@ -7,7 +7,7 @@ import math
 
 from numba import njit
 
-from .ball import B_CTRL, B_QI, B_WM, BALL_OK, prefers_outer_control, solve_ball
+from .ball import B_CTRL, B_LAMI, B_QI, B_WM, BALL_OK, prefers_outer_control, solve_ball
 from .layout import (CONTROL_AUTO, CONTROL_INNER, I_CONTROL, I_DB, I_NB, I_OMEGA, I_PHI0, I_RI,
                      I_RP, I_ZP)
 from .waviness import ball_waviness, race_waviness
@@ -72,7 +72,7 @@ def bearing_force(U, cage_angle, shaft_angle, psi_b, prm, race_wav, ball_wav, ba
         ci = ball_out[j, 2]
         si = ball_out[j, 3]
         mg = ball_out[j, 8]
-        lam_i = 1.0 if (inner_ctrl and qi > 0.0) else 0.0
+        lam_i = ball_out[j, B_LAMI]
         # eq 32 (corrected): force and moment of ball j on the inner race
         q_r = -qi * ci - lam_i * mg / db * si
         q_z = -qi * si + lam_i * mg / db * ci

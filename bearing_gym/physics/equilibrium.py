@@ -145,6 +145,7 @@ def static_equilibrium(params, *, max_iter: int = 200, tol_n: float = 1e-7) -> S
     scale = np.array([1.0, 1.0, 1.0, 1.0 / rp, 1.0 / rp])     # moments -> N at r_p
     U = _initial_guess(params)
     max_step = 2.0e-6
+    trust = max_step
     it = 0
     R = force(U) + P
     res = float(np.max(np.abs(R * scale)))
@@ -157,8 +158,9 @@ def static_equilibrium(params, *, max_iter: int = 200, tol_n: float = 1e-7) -> S
         else:
             dU = np.linalg.lstsq(K, R, rcond=1e-12)[0]          # Newton: K dU = F + P
         step = np.max(np.abs(dU * np.array([1, 1, 1, rp, rp])))
-        if step > max_step:
-            dU *= max_step / step
+        if step > trust:
+            dU *= trust / step
+            step = trust
         # backtracking on the residual
         lam = 1.0
         saved_v = force.ball_v.copy()
@@ -173,6 +175,8 @@ def static_equilibrium(params, *, max_iter: int = 200, tol_n: float = 1e-7) -> S
             force.ball_out[:] = saved_out
             lam *= 0.5
         U, R, res = Ut, Rt, rt
+        # trust region on the step: grow after full steps, shrink after backtracking
+        trust = min(2.0 * trust, 1e-4) if lam == 1.0 else max(0.5 * trust, 1e-9)
         if step * lam < 1e-16:
             break
     if not res <= max(tol_n, 1e-9 * max(1.0, float(np.max(np.abs(P))))):

@@ -84,6 +84,30 @@ def solve_acceleration(F, prm, t_shaft, vstar, a_out):
     a_out[4] = (-a21 * rx + a11 * ry) / det
 
 
+@njit(cache=True, inline="always")
+def newmark_predictor(X, V, A, dt, beta, gam, base, vstar):
+    """Newmark-beta: the parts of X_{n+1} and V_{n+1} known before a_{n+1}.
+
+    X_{n+1} = base + beta dt^2 a_{n+1},   base = X_n + dt V_n + (1/2 - beta) dt^2 A_n
+    V_{n+1} = vstar + gamma dt a_{n+1},   vstar = V_n + (1 - gamma) dt A_n
+    """
+    for k in range(X.shape[0]):
+        vstar[k] = V[k] + (1.0 - gam) * dt * A[k]
+        base[k] = X[k] + dt * V[k] + (0.5 - beta) * dt * dt * A[k]
+
+
+@njit(cache=True, inline="always")
+def newmark_displacement(base_k, a_k, dt, beta):
+    """X_{n+1} = base + beta dt^2 a_{n+1} (see :func:`newmark_predictor`)."""
+    return base_k + beta * dt * dt * a_k
+
+
+@njit(cache=True, inline="always")
+def newmark_velocity(vstar_k, a_k, dt, gam):
+    """V_{n+1} = vstar + gamma dt a_{n+1} (see :func:`newmark_predictor`)."""
+    return vstar_k + gam * dt * a_k
+
+
 @njit(cache=True)
 def integrate(prm, race_wav, ball_wav, ball_phase, ball_size, X, V, A, scal, psi_b, ball_v,
               ball_out, n_steps, record_every, rec):
@@ -118,10 +142,9 @@ def integrate(prm, race_wav, ball_wav, ball_phase, ball_size, X, V, A, scal, psi
         scal[S_CAGE] += scal[S_CAGE_SPEED] * dt
         for j in range(n):
             psi_b[j] += ball_out[j, B_WB] * dt
+        newmark_predictor(X, V, A, dt, beta, gam, base, vstar)
         for k in range(5):
-            vstar[k] = V[k] + (1.0 - gam) * dt * A[k]
-            base[k] = X[k] + dt * V[k] + (0.5 - beta) * dt * dt * A[k]
-            Xn[k] = base[k] + beta * dt * dt * A[k]      # predictor: a_{n+1} = a_n
+            Xn[k] = newmark_displacement(base[k], A[k], dt, beta)   # predictor: a_{n+1} = a_n
         converged = False
         for it in range(maxit):
             st = bearing_force(Xn, scal[S_CAGE], scal[S_SHAFT], psi_b, prm, race_wav, ball_wav,
@@ -132,7 +155,7 @@ def integrate(prm, race_wav, ball_wav, ball_phase, ball_size, X, V, A, scal, psi
             solve_acceleration(F, prm, scal[S_SHAFT], vstar, a_new)
             diff = 0.0
             for k in range(5):
-                x_new = base[k] + beta * dt * dt * a_new[k]
+                x_new = newmark_displacement(base[k], a_new[k], dt, beta)
                 d = abs(x_new - Xn[k])
                 if k >= 3:
                     d *= rot_scale
@@ -151,7 +174,7 @@ def integrate(prm, race_wav, ball_wav, ball_phase, ball_size, X, V, A, scal, psi
         for k in range(5):
             X[k] = Xn[k]
             A[k] = a_new[k]
-            V[k] = vstar[k] + gam * dt * a_new[k]
+            V[k] = newmark_velocity(vstar[k], a_new[k], dt, gam)
             if not math.isfinite(X[k]) or not math.isfinite(V[k]):
                 bad = True
         if bad or abs(X[0]) > divlim or abs(X[1]) > divlim or abs(X[2]) > divlim \
