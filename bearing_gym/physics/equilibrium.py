@@ -128,8 +128,11 @@ def _initial_guess(params) -> np.ndarray:
     return U
 
 
-def static_equilibrium(params, *, max_iter: int = 200, tol_n: float = 1e-7) -> StaticEquilibrium:
+def static_equilibrium(params, *, max_iter: int = 200, tol_n: float = 1e-4) -> StaticEquilibrium:
     """5-DOF quasi-static equilibrium of ``params`` at its speed and loads, no unbalance.
+
+    Converged when max |F + P| (moments divided by r_p) is below ``tol_n`` newtons; the default
+    1e-4 N sits just above the noise of the ball solutions (each stopped at a 1e-12 m step).
 
     Returns per-ball contact angles, loads and displacements, the rotor displacement U, the
     bearing stiffness matrix (central differences) and the cage/shaft speed ratio.
@@ -179,7 +182,7 @@ def static_equilibrium(params, *, max_iter: int = 200, tol_n: float = 1e-7) -> S
         trust = min(2.0 * trust, 1e-4) if lam == 1.0 else max(0.5 * trust, 1e-9)
         if step * lam < 1e-16:
             break
-    if not res <= max(tol_n, 1e-9 * max(1.0, float(np.max(np.abs(P))))):
+    if not res <= tol_n:
         raise EquilibriumError(
             f"static equilibrium did not converge: residual {res:.3g} N after {it} iterations "
             f"(loads {P[:3]} N at {params.shaft_speed_rpm:g} rpm)")
