@@ -8,3 +8,18 @@ __version__ = "0.1.0"
 
 __all__ = ["default_params", "BearingParams", "BearingGeometry", "Material", "Rotor", "Waviness",
            "RaceWaviness", "BallWaviness", "Loads", "Damping", "Integrator", "__version__"]
+
+
+def _register() -> None:
+    import gymnasium
+
+    if "BearingPreload-v0" not in gymnasium.registry:
+        gymnasium.register(
+            id="BearingPreload-v0",
+            entry_point="bearing_gym.envs.bearing_preload:BearingPreloadEnv",
+            vector_entry_point="bearing_gym.envs.vector:BearingPreloadVectorEnv",
+            max_episode_steps=250,
+        )
+
+
+_register()

@@ -1,0 +1,224 @@
+"""Native vector environment (one batched numba kernel, prange over envs) and an SB3 adapter."""
+
+from __future__ import annotations
+
+from typing import Any, Sequence
+
+import gymnasium as gym
+import numba
+import numpy as np
+from gymnasium import spaces
+from gymnasium.utils import seeding
+from gymnasium.vector import AutoresetMode, VectorEnv
+
+from bearing_gym.params import BearingParams, _check_real
+
+from .actuator import PreloadActuator
+from .common import check_actions, initial_observation, reset_one, step_outputs
+from .core import PreloadBatch
+from .observation import ObservationModel
+from .reward import RewardModel
+from .scenario import scenario_distribution
+
+__all__ = ["BearingPreloadVectorEnv", "BearingPreloadSB3VecEnv"]
+
+
+class BearingPreloadVectorEnv(VectorEnv):
+    """``num_envs`` copies of :class:`~bearing_gym.envs.BearingPreloadEnv` stepped together by
+    one numba kernel (``prange`` over environments, ``num_threads`` worker threads).
+
+    Same arguments as the single env, plus ``num_envs``, ``max_episode_steps`` (truncation; the
+    single env gets it from its TimeLimit) and ``num_threads`` (default: numba's). Autoreset mode
+    ``NEXT_STEP``: the step after an episode ends resets that env and returns its first
+    observation with reward 0. ``reset(seed=s)`` seeds env i with ``s + i``, so the batch is
+    identical step by step to ``num_envs`` single envs reset with those seeds.
+    """
+
+    metadata = {"render_modes": [], "autoreset_mode": AutoresetMode.NEXT_STEP}
+
+    def __init__(self, num_envs: int = 2, scenario: Any = "randomized", control_dt_s: float = 0.02,
+                 actuator: PreloadActuator | None = None, reward: RewardModel | None = None,
+                 observation: ObservationModel | None = None, params: BearingParams | None = None,
+                 episode_steps: int = 250, max_episode_steps: int | None = 250,
+                 num_threads: int | None = None, obs_noise_std: float | None = None,
+                 render_mode: str | None = None):
+        if render_mode is not None:
+            raise ValueError("the vector env does not render; render a single BearingPreloadEnv")
+        if isinstance(num_envs, bool) or not isinstance(num_envs, (int, np.integer)) or num_envs < 1:
+            raise ValueError(f"num_envs must be an integer >= 1, got {num_envs!r}")
+        _check_real("control_dt_s", control_dt_s, 1e-3, 1.0)
+        self.num_envs = int(num_envs)
+        self.scenario_dist = scenario_distribution(scenario)
+        self.actuator = actuator or PreloadActuator()
+        self.reward_model = reward or RewardModel()
+        obs_model = observation or ObservationModel()
+        if obs_noise_std is not None:
+            obs_model = ObservationModel(noise_std=_check_real("obs_noise_std", obs_noise_std, 0.0, 10.0))
+        self.observation_model = obs_model
+        self.episode_steps = int(episode_steps)
+        self.max_episode_steps = max_episode_steps
+        if num_threads is not None and not (1 <= num_threads <= numba.config.NUMBA_NUM_THREADS):
+            raise ValueError(f"num_threads must be in [1, {numba.config.NUMBA_NUM_THREADS}], got {num_threads}")
+        self.num_threads = num_threads
+        self._batch = PreloadBatch(self.num_envs, params, control_dt_s, self.actuator)
+        self.control_dt_s = self._batch.control_dt_s
+        self.single_action_space = spaces.Box(-1.0, 1.0, shape=(1,), dtype=np.float32)
+        self.single_observation_space = obs_model.space
+        self.action_space = gym.vector.utils.batch_space(self.single_action_space, self.num_envs)
+        self.observation_space = gym.vector.utils.batch_space(self.single_observation_space, self.num_envs)
+        self.render_mode = None
+        self._rngs: list[np.random.Generator | None] = [None] * self.num_envs
+        self._elapsed = np.zeros(self.num_envs, dtype=np.int64)
+        self._autoreset = np.zeros(self.num_envs, dtype=bool)
+        self._started = False
+
+    # --- building blocks (also used by the SB3 adapter) ----------------------------------------
+    def _seed(self, seed: int | Sequence[int | None] | None) -> None:
+        if seed is None:
+            seeds: list[int | None] = [None] * self.num_envs
+        elif isinstance(seed, (int, np.integer)):
+            seeds = [int(seed) + i for i in range(self.num_envs)]
+        else:
+            seeds = list(seed)
+            if len(seeds) != self.num_envs:
+                raise ValueError(f"seed list must have num_envs = {self.num_envs} entries, got {len(seeds)}")
+        for i, s in enumerate(seeds):
+            if s is not None or self._rngs[i] is None:
+                self._rngs[i], _ = seeding.np_random(s)
+
+    def _reset_envs(self, idx: np.ndarray, options: dict | None) -> np.ndarray:
+        for b in idx:
+            reset_one(self._batch, int(b), self._rngs[b], self.scenario_dist,
+                      self.episode_steps * self.control_dt_s, options)
+            self._elapsed[b] = 0
+        return initial_observation(self._batch, idx, self.observation_model, [self._rngs[b] for b in idx])
+
+    def _step_envs(self, actions: np.ndarray, idx: np.ndarray):
+        """Step envs ``idx`` with their actions; returns obs, reward, terminated, truncated, infos."""
+        active = np.zeros(self.num_envs, dtype=bool)
+        active[idx] = True
+        setpoints = np.zeros(self.num_envs)
+        setpoints[idx] = self.actuator.setpoint_n(actions[idx])
+        before = self._batch.preload[idx].copy()
+        if self.num_threads is not None:
+            numba.set_num_threads(self.num_threads)
+        self._batch.step(setpoints, active)
+        obs, rew, term, infos = step_outputs(self._batch, idx, before, self.observation_model,
+                                             self.reward_model, [self._rngs[b] for b in idx])
+        self._elapsed[idx] += 1
+        if self.max_episode_steps is None:
+            trunc = np.zeros(len(idx), dtype=bool)
+        else:
+            trunc = (self._elapsed[idx] >= self.max_episode_steps) & ~term
+        return obs, rew, term, trunc, infos
+
+    # --- gymnasium VectorEnv API -------------------------------------------------------------
+    def reset(self, *, seed: int | Sequence[int | None] | None = None, options: dict | None = None):
+        self._seed(seed)
+        opts = dict(options or {})
+        mask = opts.pop("reset_mask", None)
+        idx = np.arange(self.num_envs) if mask is None else np.flatnonzero(np.asarray(mask, dtype=bool))
+        obs_part = self._reset_envs(idx, opts)
+        if not self._started:
+            self._obs = np.zeros((self.num_envs,) + self.single_observation_space.shape, dtype=np.float32)
+            self._started = True
+        self._obs[idx] = obs_part
+        self._autoreset[idx] = False
+        infos: dict[str, Any] = {}
+        for i, b in enumerate(idx):
+            infos = self._add_info(infos, {"preload_n": float(self._batch.preload[b])}, int(b))
+        return self._obs.copy(), infos
+
+    def step(self, actions):
+        if not self._started:
+            raise RuntimeError("call reset() before step()")
+        a = check_actions(actions, self.num_envs)
+        rewards = np.zeros(self.num_envs)
+        terminations = np.zeros(self.num_envs, dtype=bool)
+        truncations = np.zeros(self.num_envs, dtype=bool)
+        infos: dict[str, Any] = {}
+        reset_idx = np.flatnonzero(self._autoreset)
+        step_idx = np.flatnonzero(~self._autoreset)
+        if len(reset_idx):
+            self._obs[reset_idx] = self._reset_envs(reset_idx, None)
+        if len(step_idx):
+            obs, rew, term, trunc, env_infos = self._step_envs(a, step_idx)
+            self._obs[step_idx] = obs
+            rewards[step_idx] = rew
+            terminations[step_idx] = term
+            truncations[step_idx] = trunc
+            for i, b in enumerate(step_idx):
+                infos = self._add_info(infos, env_infos[i], int(b))
+        self._autoreset = terminations | truncations
+        return self._obs.copy(), rewards, terminations, truncations, infos
+
+
+try:  # the SB3 adapter is optional at import time
+    from stable_baselines3.common.vec_env.base_vec_env import VecEnv as _SB3VecEnv
+except ImportError:  # pragma: no cover
+    _SB3VecEnv = object
+
+
+class BearingPreloadSB3VecEnv(_SB3VecEnv):
+    """Stable-Baselines3 ``VecEnv`` over the native batched env (SB3 does not take a gymnasium
+    ``VectorEnv``). SB3 semantics: an env that ends is reset in the same step, its last
+    observation goes to ``infos[i]["terminal_observation"]`` and ``"TimeLimit.truncated"`` marks
+    truncation. Takes the :class:`BearingPreloadVectorEnv` arguments."""
+
+    def __init__(self, num_envs: int = 2, **kwargs: Any):
+        self.venv = BearingPreloadVectorEnv(num_envs=num_envs, **kwargs)
+        super().__init__(num_envs, self.venv.single_observation_space, self.venv.single_action_space)
+        self._actions: np.ndarray | None = None
+        self._started = False
+
+    def reset(self):
+        seeds = getattr(self, "_seeds", [None] * self.num_envs)
+        self.venv._seed(list(seeds))
+        opts = getattr(self, "_options", [{}] * self.num_envs)
+        obs = np.zeros((self.num_envs,) + self.observation_space.shape, dtype=np.float32)
+        for b in range(self.num_envs):
+            obs[b] = self.venv._reset_envs(np.array([b]), opts[b] or None)[0]
+        if hasattr(self, "_reset_seeds"):
+            self._reset_seeds()
+        if hasattr(self, "_reset_options"):
+            self._reset_options()
+        self._started = True
+        return obs
+
+    def step_async(self, actions: np.ndarray) -> None:
+        self._actions = np.asarray(actions)
+
+    def step_wait(self):
+        if not self._started:
+            raise RuntimeError("call reset() before step()")
+        a = check_actions(self._actions, self.num_envs)
+        idx = np.arange(self.num_envs)
+        obs, rew, term, trunc, infos = self.venv._step_envs(a, idx)
+        dones = term | trunc
+        for b in np.flatnonzero(dones):
+            infos[b]["terminal_observation"] = obs[b].copy()
+            infos[b]["TimeLimit.truncated"] = bool(trunc[b] and not term[b])
+            obs[b] = self.venv._reset_envs(np.array([b]), None)[0]
+        return obs, rew.astype(np.float32), dones, infos
+
+    def close(self) -> None:
+        pass
+
+    def _indices(self, indices) -> list[int]:
+        if indices is None:
+            return list(range(self.num_envs))
+        if isinstance(indices, int):
+            return [indices]
+        return list(indices)
+
+    def get_attr(self, attr_name: str, indices=None) -> list[Any]:
+        return [getattr(self.venv, attr_name) for _ in self._indices(indices)]
+
+    def set_attr(self, attr_name: str, value: Any, indices=None) -> None:
+        setattr(self.venv, attr_name, value)
+
+    def env_method(self, method_name: str, *method_args, indices=None, **method_kwargs) -> list[Any]:
+        return [getattr(self.venv, method_name)(*method_args, **method_kwargs) for _ in self._indices(indices)]
+
+    def env_is_wrapped(self, wrapper_class, indices=None) -> list[bool]:
+        return [False for _ in self._indices(indices)]

@@ -1,0 +1,154 @@
+"""BearingPreload-v0: API conformance, determinism, errors, robustness, golden trajectory."""
+
+import pickle
+from pathlib import Path
+
+import gymnasium as gym
+import numpy as np
+import pytest
+
+import bearing_gym  # noqa: F401  (registers the env)
+from bearing_gym.envs import BearingPreloadEnv, Scenario
+
+GOLDEN = Path(__file__).resolve().parents[1] / "data" / "paper_golden.npz"
+
+
+def golden_actions(n):
+    """Preload set-points 1000 -> 700 -> 1400 N in steps (the golden trajectory's actions)."""
+    env = BearingPreloadEnv(scenario="paper")
+    seq = [1000.0] * 5 + [700.0] * 10 + [1400.0] * (n - 15)
+    return np.array([[env.actuator.action_for(p)] for p in seq], dtype=np.float32)
+
+
+def run(env, actions, seed):
+    obs, info = env.reset(seed=seed)
+    out_obs, out_rew, out_info = [obs], [], []
+    for a in actions:
+        obs, r, term, trunc, info = env.step(a)
+        out_obs.append(obs)
+        out_rew.append(r)
+        out_info.append(info)
+        if term or trunc:
+            break
+    return np.array(out_obs), np.array(out_rew), out_info
+
+
+def test_gymnasium_env_checker():
+    from gymnasium.utils.env_checker import check_env
+    env = gym.make("BearingPreload-v0", scenario="paper")
+    check_env(env.unwrapped, skip_render_check=True)
+
+
+def test_sb3_env_checker():
+    from stable_baselines3.common.env_checker import check_env
+    check_env(BearingPreloadEnv(scenario="paper"), warn=True)
+
+
+def test_make_by_module_path_and_spaces():
+    env = gym.make("bearing_gym:BearingPreload-v0")
+    assert env.spec.max_episode_steps == 250
+    assert env.action_space == gym.spaces.Box(-1, 1, (1,), np.float32)
+    assert env.observation_space.dtype == np.float32
+    assert np.all(np.isfinite(env.observation_space.low)) and np.all(np.isfinite(env.observation_space.high))
+
+
+def test_same_seed_identical_over_100_steps():
+    rng = np.random.default_rng(3)
+    actions = rng.uniform(-1, 1, size=(100, 1)).astype(np.float32)
+    a = run(BearingPreloadEnv(), actions, seed=11)
+    b = run(BearingPreloadEnv(), actions, seed=11)
+    np.testing.assert_array_equal(a[0], b[0])
+    np.testing.assert_array_equal(a[1], b[1])
+    assert a[2] == b[2]
+    c = run(BearingPreloadEnv(), actions[:5], seed=12)
+    assert not np.array_equal(a[0][:6], c[0])      # another seed, another scenario
+
+
+def test_pickle_round_trip_continues_identically():
+    env = BearingPreloadEnv()
+    env.reset(seed=5)
+    for _ in range(3):
+        env.step(np.array([0.2], dtype=np.float32))
+    clone = pickle.loads(pickle.dumps(env))
+    for a in (-0.5, 0.1, 0.9):
+        o1, r1, *_ = env.step(np.array([a], dtype=np.float32))
+        o2, r2, *_ = clone.step(np.array([a], dtype=np.float32))
+        np.testing.assert_array_equal(o1, o2)
+        assert r1 == r2
+
+
+def test_golden_trajectory_of_the_paper_preset():
+    data = np.load(GOLDEN)
+    obs, rew, _ = run(BearingPreloadEnv(scenario="paper"), data["actions"], seed=0)
+    # same machine: bit for bit; other CPUs/libm may differ in the last bits of periodic motion
+    np.testing.assert_allclose(obs, data["observations"], rtol=1e-6, atol=1e-6)
+    np.testing.assert_allclose(rew, data["rewards"], rtol=1e-6, atol=1e-9)
+
+
+def test_info_reports_each_reward_term():
+    env = BearingPreloadEnv(scenario="paper")
+    env.reset(seed=0)
+    _, r, _, _, info = env.step(np.array([0.0], dtype=np.float32))
+    terms = [info[k] for k in ("reward_vibration", "reward_heat", "reward_fatigue", "reward_preload_change")]
+    assert r == pytest.approx(sum(terms), rel=1e-12)
+    assert all(t <= 0 for t in terms)
+
+
+@pytest.mark.parametrize("bad,match", [(np.array([np.nan], np.float32), "NaN"),
+                                       (np.array([1.5], np.float32), "outside the action space"),
+                                       (np.array([-1.01], np.float32), "outside the action space"),
+                                       (np.array([0.1, 0.2], np.float32), "1 element")])
+def test_bad_actions_raise(bad, match):
+    env = BearingPreloadEnv(scenario="paper")
+    env.reset(seed=0)
+    with pytest.raises(ValueError, match=match):
+        env.step(bad)
+
+
+def test_unknown_reset_option_raises():
+    env = BearingPreloadEnv()
+    with pytest.raises(ValueError, match="preload_target"):
+        env.reset(seed=0, options={"preload_target": 5})
+    with pytest.raises(ValueError, match="clearance_m"):
+        env.reset(seed=0, options={"clearance_m": -1.0})
+
+
+def test_reset_options_pin_the_scenario():
+    env = BearingPreloadEnv()
+    _, info = env.reset(seed=0, options={"shaft_speed_rpm": 15000.0, "radial_load_n": 0.0,
+                                         "clearance_m": 1e-5, "initial_preload_n": 1200.0})
+    assert info["shaft_speed_rpm"] == pytest.approx(15000.0)
+    assert info["preload_n"] == 1200.0 and env.scenario.clearance_m == 1e-5
+    sc = Scenario(speed_start_rpm=12000.0, speed_end_rpm=12000.0)
+    _, info = env.reset(options={"scenario": sc})
+    assert env.scenario == sc
+
+
+def test_bad_constructor_arguments():
+    with pytest.raises(ValueError, match="scenario preset"):
+        BearingPreloadEnv(scenario="moon")
+    with pytest.raises(ValueError, match="control_dt_s"):
+        BearingPreloadEnv(control_dt_s=0.0)
+    with pytest.raises(ValueError, match="render_mode"):
+        BearingPreloadEnv(render_mode="human")
+
+
+def test_integrator_failure_terminates_with_reason_and_finite_observation():
+    params = bearing_gym.default_params(divergence_limit_m=2e-5)
+    env = BearingPreloadEnv(scenario="paper", params=params)
+    env.reset(seed=0)
+    for _ in range(20):
+        obs, r, term, trunc, info = env.step(np.array([-1.0], dtype=np.float32))
+        if term:
+            break
+    assert term and "diverged" in info["termination_reason"]
+    assert np.all(np.isfinite(obs)) and np.isfinite(r)
+
+
+def test_render_rgb_array():
+    env = BearingPreloadEnv(scenario="paper", render_mode="rgb_array")
+    env.reset(seed=0)
+    for _ in range(3):
+        env.step(np.array([0.0], dtype=np.float32))
+    img = env.render()
+    assert img.ndim == 3 and img.shape[2] == 3 and img.dtype == np.uint8 and img.std() > 0
