@@ -1,7 +1,12 @@
 """bearing_gym: the Bai & Xu (2006) high-speed ball-bearing / rotor model as a physics core,
 an analysis toolkit and a Gymnasium environment for axial-preload control."""
 
-from .params import (BallWaviness, BearingGeometry, BearingParams, Damping, Integrator, Loads,
+from . import _numba_cache
+
+NUMBA_CACHE_DIR = _numba_cache.configure()   # before any kernel module is imported
+
+from .params import (  # noqa: E402
+    BallWaviness, BearingGeometry, BearingParams, Damping, Integrator, Loads,
                      Material, RaceWaviness, Rotor, Waviness, default_params)
 
 __version__ = "0.1.0"

@@ -304,7 +304,7 @@ class Integrator:
     newmark_gamma: float = 0.5
     newmark_tol_m: float = 1.0e-13
     newmark_max_iter: int = 30
-    newton_tol_m: float = 1.0e-12
+    newton_tol_m: float = 1.0e-9
     newton_max_iter: int = 50
     divergence_limit_m: float = 1.0e-3
 

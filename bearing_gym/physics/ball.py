@@ -52,7 +52,10 @@ B_CTRL = 9    # race control used: 0 outer, 1 inner
 B_DI = 10     # inner deflection delta_i (m, negative = gap)
 B_DO = 11     # outer deflection delta_o (m)
 B_LAMI = 12   # effective race-control factor lambda_i of eq 32 (friction on the inner race)
-N_BALL_OUT = 13
+B_NITER = 13  # Newton iterations used, accumulated over solves (diagnostics; reset by the caller)
+B_VR_PREV = 14  # v_r at the previous time step (warm-start extrapolation in rotor.integrate)
+B_VZ_PREV = 15  # v_z at the previous time step
+N_BALL_OUT = 16
 
 FRICTION_ONSET_M = 1.0e-6
 
@@ -89,9 +92,24 @@ def _dg(dai, dao, dqi, dqo, dmg, dfe, dlam_i, dlam_o, qi, qo, ci, si, co, so, la
 def ball_residual(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm):
     """Residual g = (g_r, g_z) of eq 28 and its Jacobian (eq 31, App. C) at ball displacement v.
 
+    Returns (g_r, g_z, J_rr, J_rz, J_zr, J_zz, Q_i, Q_o, ci, si, co, so, omega_m, omega_b,
+    M_g, delta_i, delta_o, K_o, lambda_i); see :func:`ball_model` for the derivatives too.
+    """
+    r = ball_model(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm)
+    return (r[0], r[1], r[2], r[3], r[4], r[5], r[6], r[7], r[8], r[9], r[10], r[11], r[12],
+            r[13], r[14], r[15], r[16], r[17], r[18])
+
+
+@njit(cache=True, inline="always")
+def ball_model(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm):
+    """Eqs 18-30 for one ball at displacement v: residual of eq 28, its Jacobian (App. C) and
+    the contact state with its derivatives along (v_r, v_z).
+
     ``dist_i``, ``dist_o`` are the unloaded centre distances r - (D_b + h_j)/2 - w_j.
     Returns (g_r, g_z, J_rr, J_rz, J_zr, J_zz, Q_i, Q_o, ci, si, co, so, omega_m, omega_b,
-    M_g, delta_i, delta_o, K_o, lambda_i).
+    M_g, delta_i, delta_o, K_o, lambda_i,                                   # 0-18
+    dQ_i/dv (2), dQ_o/dv (2), dalpha_i/dv (2), dalpha_o/dv (2), domega_m/dv (2), dM_g/dv (2),
+    dlambda_i/dv (2)).                                                       # 19-32
     """
     db = prm[I_DB]
     dp = prm[I_DP]
@@ -179,7 +197,9 @@ def ball_residual(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm):
                    co, so, lam_i, lam_o, mg, db)
     jrz, jzz = _dg(dai_z, dao_z, dqi_z, dqo_z, dmg_z, dfe_z, dlam_i_z, dlam_o_z, qi, qo, ci, si,
                    co, so, lam_i, lam_o, mg, db)
-    return gr, gz, jrr, jrz, jzr, jzz, qi, qo, ci, si, co, so, wm, wb, mg, di, do, ko, lam_i
+    return (gr, gz, jrr, jrz, jzr, jzz, qi, qo, ci, si, co, so, wm, wb, mg, di, do, ko, lam_i,
+            dqi_r, dqi_z, dqo_r, dqo_z, dai_r, dai_z, dao_r, dao_z, dwm_r, dwm_z, dmg_r, dmg_z,
+            dlam_i_r, dlam_i_z)
 
 
 @njit(cache=True, inline="always")
@@ -214,8 +234,10 @@ def solve_ball(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm, out, j
     dvz = 0.0
     halvings = 0
     for _ in range(maxit + 1):
-        (gr, gz, jrr, jrz, jzr, jzz, qi, qo, ci, si, co, so, wm, wb, mg, di, do,
-         ko, lam_i) = ball_residual(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm)
+        out[j, B_NITER] += 1.0
+        (gr, gz, jrr, jrz, jzr, jzz, qi, qo, ci, si, co, so, wm, wb, mg, di, do, ko, lam_i,
+         dqi_r, dqi_z, dqo_r, dqo_z, dai_r, dai_z, dao_r, dao_z, dwm_r, dwm_z, dmg_r, dmg_z,
+         dlam_r, dlam_z) = ball_model(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm)
         if di <= 0.0 and do <= 0.0:
             fe = 0.5 * (prm[I_DP] + 2.0 * vr) * prm[I_MB] * wm * wm
             if fe > 0.0:
@@ -246,6 +268,26 @@ def solve_ball(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm, out, j
         dvz = -(-jzr * gr + jrr * gz) / det
         step = max(abs(dvr), abs(dvz))
         if step < tol:
+            # converged: in the quadratic regime the error after this last step is of order
+            # step^2 / delta, so take it and move the contact state to the new point to first
+            # order instead of evaluating the model once more
+            vr += dvr
+            vz += dvz
+            qi += dqi_r * dvr + dqi_z * dvz
+            qo += dqo_r * dvr + dqo_z * dvz
+            da_i = dai_r * dvr + dai_z * dvz
+            da_o = dao_r * dvr + dao_z * dvz
+            ci, si = ci - si * da_i, si + ci * da_i
+            co, so = co - so * da_o, so + co * da_o
+            wm += dwm_r * dvr + dwm_z * dvz
+            mg += dmg_r * dvr + dmg_z * dvz
+            lam_i += dlam_r * dvr + dlam_z * dvz
+            di -= ci * dvr + si * dvz
+            do += co * dvr + so * dvz
+            if qi < 0.0:
+                qi = 0.0
+            if qo < 0.0:
+                qo = 0.0
             status = BALL_OK
             break
         if step > max_step:

@@ -11,7 +11,8 @@ Eq 35 with the damping the paper leaves out (see ``params.Damping``):
 
 theta_s is the shaft angle (omega t at constant speed). The bearing force depends on the
 displacement only (the balls are quasi-static), so each Newmark step is solved by fixed-point
-iteration on the displacement: for a given F(X_{n+1}) the acceleration follows from the
+iteration on the displacement (predictor: a_{n+1} extrapolated linearly from a_n and a_{n-1},
+and each ball's Newton warm start extrapolated from its last two steps): for a given F(X_{n+1}) the acceleration follows from the
 linear system (M + gamma dt (C + G)) a = F + P - (C + G) v*, with v* = v_n + (1 - gamma) dt a_n,
 then X_{n+1} = X_n + dt v_n + dt^2 ((1/2 - beta) a_n + beta a_{n+1}); the iteration contracts
 by beta (omega_max dt)^2 per pass. The cage angle (eq 8) and the ball spin angles (eq 15)
@@ -25,7 +26,7 @@ import math
 import numpy as np
 from numba import njit
 
-from .ball import B_WB
+from .ball import B_VR_PREV, B_VZ_PREV, B_WB
 from .bearing import bearing_force, cage_speed
 from .layout import (I_CTX, I_CTY, I_CX, I_CY, I_CZ, I_DIVLIM, I_DT, I_ECC, I_IR, I_IZ, I_MASS,
                      I_NB, I_NBETA, I_NGAMMA, I_NM_MAXIT, I_NM_TOL, I_OMEGA, I_PX, I_PY, I_PZ,
@@ -43,7 +44,9 @@ S_T = 0            # time (s)
 S_SHAFT = 1        # shaft angle theta_s (rad)
 S_CAGE = 2         # cage angle psi_c (rad), eq 8
 S_CAGE_SPEED = 3   # cage speed omega_c (rad/s), eq 7
-N_SCAL = 4
+S_A_PREV = 4       # 4..8: acceleration of the previous step (predictor extrapolation)
+S_N_EVAL = 9       # bearing-force evaluations so far (diagnostics)
+N_SCAL = 10
 
 # record columns
 R_T = 0
@@ -142,11 +145,22 @@ def integrate(prm, race_wav, ball_wav, ball_phase, ball_size, X, V, A, scal, psi
         scal[S_CAGE] += scal[S_CAGE_SPEED] * dt
         for j in range(n):
             psi_b[j] += ball_out[j, B_WB] * dt
+            # warm start of the ball Newton: linear extrapolation of the last two steps
+            vr = ball_v[j, 0]
+            vz = ball_v[j, 1]
+            ball_v[j, 0] = 2.0 * vr - ball_out[j, B_VR_PREV]
+            ball_v[j, 1] = 2.0 * vz - ball_out[j, B_VZ_PREV]
+            ball_out[j, B_VR_PREV] = vr
+            ball_out[j, B_VZ_PREV] = vz
         newmark_predictor(X, V, A, dt, beta, gam, base, vstar)
         for k in range(5):
-            Xn[k] = newmark_displacement(base[k], A[k], dt, beta)   # predictor: a_{n+1} = a_n
+            # predictor: a_{n+1} extrapolated linearly from a_n and a_{n-1}
+            a_pred = 2.0 * A[k] - scal[S_A_PREV + k]
+            scal[S_A_PREV + k] = A[k]
+            Xn[k] = newmark_displacement(base[k], a_pred, dt, beta)
         converged = False
         for it in range(maxit):
+            scal[S_N_EVAL] += 1.0
             st = bearing_force(Xn, scal[S_CAGE], scal[S_SHAFT], psi_b, prm, race_wav, ball_wav,
                                ball_phase, ball_size, ball_v, ball_out, F)
             if st != 0:

@@ -9,13 +9,14 @@ import numpy as np
 
 from bearing_gym.params import BearingParams, _check_real
 
-from .ball import B_CTRL, N_BALL_OUT
+from .ball import B_CTRL, B_VR_PREV, B_VZ_PREV, N_BALL_OUT
 from .bearing import bearing_force, cage_speed
 from .equilibrium import static_equilibrium
 from .layout import (CONTROL_INNER, I_CONTROL, I_CTX, I_CX, I_DT, I_IR, I_MASS, I_OMEGA, I_PHI0,
                      I_PX, I_PY, I_PZ, pack_params)
 from .rotor import (N_REC, N_SCAL, R_CAGE_ANGLE, R_CAGE_SPEED, R_F, R_N_INNER, R_SHAFT, R_T, R_V,
-                    R_X, S_CAGE, S_CAGE_SPEED, S_SHAFT, S_T, integrate, solve_acceleration)
+                    R_X, S_A_PREV, S_CAGE, S_CAGE_SPEED, S_SHAFT, S_T, integrate,
+                    solve_acceleration)
 
 __all__ = ["Simulator", "SimulatorState", "SimulationRecord", "SimulationError"]
 
@@ -161,9 +162,12 @@ class Simulator:
                            p.ball_size, s.ball_v, s.ball_out, F)
         if st != 0:
             raise SimulationError(f"initial bearing force failed: {_STATUS_TEXT[st]}", None)
+        s.ball_out[:, B_VR_PREV] = s.ball_v[:, 0]     # at rest: no extrapolation on step 1
+        s.ball_out[:, B_VZ_PREV] = s.ball_v[:, 1]
         omega = prm[I_OMEGA]
         s.scal[S_CAGE_SPEED] = cage_speed(s.ball_out, s.psi_b.shape[0], eq.cage_speed_ratio * omega)
         solve_acceleration(F, _zero_gamma(prm), 0.0, s.V, s.A)
+        s.scal[S_A_PREV:S_A_PREV + 5] = s.A              # no extrapolation on the first step
         return self.state
 
     @property
