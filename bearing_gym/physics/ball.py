@@ -15,12 +15,13 @@ waviness w_j enter here; a gap of c at each contact at U = 0).
 Loss of contact (delta <= 0) gives zero Hertz force at that race (eqs 24-27) and, because a
 race out of contact cannot carry friction, zero race-control friction there too: the lambda of
 eq 28 is multiplied by a contact factor that rises smoothly from 0 at delta = 0 to 1 at
-delta = ``FRICTION_ONSET_M`` (1 um, a tenth of a working deflection; under
+delta = ``FRICTION_ONSET_M`` (0.1 um, about 1 % of a working deflection; under
 outer-race control at speed the outer contacts sit far above it). A hard on/off factor
 would make g jump by lambda M_g / D_b (hundreds of newtons under inner-race control at speed)
 and leave Newton cycling around a contact that has no equilibrium on either side. A ball with
 no contact at either race is moved against the outer race, where at speed its centrifugal force
-holds it; at zero speed it is left where it is, carrying no load.
+holds it (likewise a ball touching only the inner race at speed is first moved out against the
+outer race before Newton goes on); at zero speed it is left where it is, carrying no load.
 """
 
 from __future__ import annotations
@@ -57,7 +58,7 @@ B_VR_PREV = 14  # v_r at the previous time step (warm-start extrapolation in rot
 B_VZ_PREV = 15  # v_z at the previous time step
 N_BALL_OUT = 16
 
-FRICTION_ONSET_M = 1.0e-6
+FRICTION_ONSET_M = 1.0e-7
 
 
 @njit(cache=True, inline="always")
@@ -216,6 +217,17 @@ def prefers_outer_control(qi, qo, ci, si, co, so, prm):
 
 
 @njit(cache=True, inline="always")
+def _arc_point(l_o, co, so, d_alpha, prm):
+    """Ball displacement v at distance ``l_o`` from the outer-groove centre, at the angle
+    alpha_o + d_alpha where (co, so) = (cos, sin) alpha_o (eq 19 inverted)."""
+    c = math.cos(d_alpha)
+    s = math.sin(d_alpha)
+    vr = l_o * (co * c - so * s) - prm[I_LO0] * prm[I_COSA0]
+    vz = l_o * (so * c + co * s) - prm[I_LO0] * prm[I_SINA0]
+    return vr, vz
+
+
+@njit(cache=True, inline="always")
 def solve_ball(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm, out, j):
     """Newton-Raphson (eq 31) for one ball, warm-started at (vr, vz).
 
@@ -228,62 +240,74 @@ def solve_ball(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm, out, j
     max_step = 0.1 * (prm[I_LO0] + 1e-9)
     status = BALL_NOT_CONVERGED
     prev_norm = math.inf
-    prev_vr = vr
-    prev_vz = vz
-    dvr = 0.0
-    dvz = 0.0
+    prev_lo = 0.0
+    prev_co = 1.0
+    prev_so = 0.0
+    dl = 0.0
+    da = 0.0
     halvings = 0
     for _ in range(maxit + 1):
         out[j, B_NITER] += 1.0
         (gr, gz, jrr, jrz, jzr, jzz, qi, qo, ci, si, co, so, wm, wb, mg, di, do, ko, lam_i,
          dqi_r, dqi_z, dqo_r, dqo_z, dai_r, dai_z, dao_r, dao_z, dwm_r, dwm_z, dmg_r, dmg_z,
          dlam_r, dlam_z) = ball_model(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm)
-        if di <= 0.0 and do <= 0.0:
+        if do <= 0.0:
             fe = 0.5 * (prm[I_DP] + 2.0 * vr) * prm[I_MB] * wm * wm
-            if fe > 0.0:
-                # free ball at speed: put it against the outer race, where the Hertz load
-                # balances its centrifugal force
-                target = dist_o + (fe / ko) ** (2.0 / 3.0)
+            if fe + qi > 0.0:
+                # no outer contact at speed: nothing can hold the ball against its centrifugal
+                # force (and the inner-race push), so put it against the outer race, where the
+                # Hertz load balances that force, and let Newton go on from there
+                target = dist_o + ((fe + qi) / ko) ** (2.0 / 3.0)
                 vr = target * co - prm[I_LO0] * prm[I_COSA0]
                 vz = target * so - prm[I_LO0] * prm[I_SINA0]
                 prev_norm = math.inf
                 continue
-            status = BALL_OK            # unloaded ball at rest: no force, keep its position
-            break
+            if di <= 0.0:
+                status = BALL_OK        # unloaded ball at rest: no force, keep its position
+                break
         norm = max(abs(gr), abs(gz))
         if norm > prev_norm and halvings < 30:
-            # backtracking: the last Newton step made things worse; try half of it
+            # backtracking: the last Newton step made things worse; try half of it (on the arc)
             halvings += 1
-            dvr *= 0.5
-            dvz *= 0.5
-            vr = prev_vr + dvr
-            vz = prev_vz + dvz
+            dl *= 0.5
+            da *= 0.5
+            vr, vz = _arc_point(prev_lo + dl, prev_co, prev_so, da, prm)
             continue
         halvings = 0
-        det = jrr * jzz - jrz * jzr
+        # Newton step in polar coordinates about the outer-groove centre, (l_o, alpha_o): the
+        # ball then moves along the groove arc, not along its tangent (a Cartesian step of a
+        # lightly loaded ball rolling down the groove would cut into the race)
+        lo = do + dist_o
+        # J_p = J [d v / d l_o, d v / d alpha_o] with d v / d l = (co, so), d v / d a = l (-so, co)
+        p11 = jrr * co + jrz * so
+        p21 = jzr * co + jzz * so
+        p12 = lo * (-jrr * so + jrz * co)
+        p22 = lo * (-jzr * so + jzz * co)
+        det = p11 * p22 - p12 * p21
         if not (det != 0.0 and math.isfinite(det)):
             status = BALL_SINGULAR
             break
-        dvr = -(jzz * gr - jrz * gz) / det
-        dvz = -(-jzr * gr + jrr * gz) / det
-        step = max(abs(dvr), abs(dvz))
+        dl = -(p22 * gr - p12 * gz) / det
+        da = -(-p21 * gr + p11 * gz) / det
+        step = max(abs(dl), abs(lo * da))
         if step < tol:
             # converged: in the quadratic regime the error after this last step is of order
-            # step^2 / delta, so take it and move the contact state to the new point to first
-            # order instead of evaluating the model once more
+            # step^2 / delta, so take it (to first order) and move the contact state to the new
+            # point instead of evaluating the model once more
+            dvr = dl * co - lo * da * so
+            dvz = dl * so + lo * da * co
             vr += dvr
             vz += dvz
             qi += dqi_r * dvr + dqi_z * dvz
             qo += dqo_r * dvr + dqo_z * dvz
             da_i = dai_r * dvr + dai_z * dvz
-            da_o = dao_r * dvr + dao_z * dvz
             ci, si = ci - si * da_i, si + ci * da_i
-            co, so = co - so * da_o, so + co * da_o
+            co, so = co - so * da, so + co * da
             wm += dwm_r * dvr + dwm_z * dvz
             mg += dmg_r * dvr + dmg_z * dvz
             lam_i += dlam_r * dvr + dlam_z * dvz
             di -= ci * dvr + si * dvz
-            do += co * dvr + so * dvz
+            do += dl
             if qi < 0.0:
                 qi = 0.0
             if qo < 0.0:
@@ -291,13 +315,13 @@ def solve_ball(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm, out, j
             status = BALL_OK
             break
         if step > max_step:
-            dvr *= max_step / step
-            dvz *= max_step / step
+            dl *= max_step / step
+            da *= max_step / step
         prev_norm = norm
-        prev_vr = vr
-        prev_vz = vz
-        vr += dvr
-        vz += dvz
+        prev_lo = lo
+        prev_co = co
+        prev_so = so
+        vr, vz = _arc_point(lo + dl, co, so, da, prm)     # exact move along the arc
     out[j, B_QI] = qi
     out[j, B_QO] = qo
     out[j, B_CI] = ci

@@ -170,13 +170,20 @@ def static_equilibrium(params, *, max_iter: int = 200, tol_n: float = 1e-4) -> S
         saved_out = force.ball_out.copy()
         while True:
             Ut = U + lam * dU
-            Rt = force(Ut) + P
-            rt = float(np.max(np.abs(Rt * scale)))
+            try:
+                Rt = force(Ut) + P
+                rt = float(np.max(np.abs(Rt * scale)))
+            except EquilibriumError:          # a ball without equilibrium there: step shorter
+                Rt, rt = R, math.inf
             if rt < res or lam < 1e-3:
                 break
             force.ball_v[:] = saved_v
             force.ball_out[:] = saved_out
             lam *= 0.5
+        if not math.isfinite(rt):
+            force.ball_v[:] = saved_v
+            force.ball_out[:] = saved_out
+            break
         U, R, res = Ut, Rt, rt
         # trust region on the step: grow after full steps, shrink after backtracking
         trust = min(2.0 * trust, 1e-4) if lam == 1.0 else max(0.5 * trust, 1e-9)
