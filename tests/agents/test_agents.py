@@ -1,0 +1,106 @@
+"""Scripted policies, the evaluation loop and SB3 training (smoke scale)."""
+
+import json
+import pickle
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+from agents.evaluate import run_policies
+from agents.policies import ConstantPreload, FeedbackRule, OraclePreload, SpeedScheduledPreload
+from agents.stability_table import DEFAULT_PATH, StabilityTable
+from bearing_gym.envs import BearingPreloadEnv
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture(scope="module")
+def table():
+    return StabilityTable.load(DEFAULT_PATH)
+
+
+def all_policies(table):
+    return [ConstantPreload(900.0), FeedbackRule(), SpeedScheduledPreload(table), OraclePreload(table)]
+
+
+def test_scripted_policies_act_within_the_action_space(table):
+    env = BearingPreloadEnv()
+    rng = np.random.default_rng(0)
+    obs = np.array([env.observation_space.sample() for _ in range(16)])
+    obs[:, 8] = rng.uniform(0, 1.5, 16)          # quasi-periodicity index
+    for pol in all_policies(table):
+        if isinstance(pol, OraclePreload):
+            pol.set_conditions(rng.uniform(0, 40000, 16), rng.uniform(0, 800, 16), rng.uniform(0, 4e-5, 16))
+        act, _ = pol.predict(obs)
+        assert act.shape == (16, 1) and act.dtype == np.float32
+        assert np.all(act >= -1.0) and np.all(act <= 1.0), pol.name
+
+
+def test_constant_preload_rejects_out_of_range():
+    with pytest.raises(ValueError, match="preload_n"):
+        ConstantPreload(5000.0)
+
+
+def test_feedback_rule_raises_on_quasi_periodic_and_lowers_slowly():
+    pol = FeedbackRule(start_n=1000.0, raise_n=200.0, lower_n=10.0, hold_steps=2)
+    obs = np.zeros((1, 12))
+    obs[0, 8] = 0.9
+    _, st = pol.predict(obs, episode_start=np.array([True]))
+    assert st[0, 0] == 1200.0
+    obs[0, 8] = 0.01
+    for _ in range(3):
+        _, st = pol.predict(obs, state=st)
+    assert st[0, 0] == 1190.0
+
+
+def test_oracle_keeps_the_paper_preset_periodic(table):
+    res = run_policies([OraclePreload(table)], episodes=1, seed=0, episode_steps=40,
+                       env_kwargs={"scenario": "paper"})[0]
+    assert res.trace["qpi"][-10:].max() < 0.1
+    crit = table.critical([20000.0], [0.0], [4e-6])[0]
+    assert res.trace["preload_n"][-1] == pytest.approx(crit + 100.0, rel=1e-3)
+
+
+def test_hyperparameter_files_load_for_rl_zoo_and_sb3():
+    sys.path.insert(0, str(ROOT))
+    import train
+    from stable_baselines3 import PPO, SAC
+    from bearing_gym.envs import BearingPreloadSB3VecEnv
+    for algo, cls in (("ppo", PPO), ("sac", SAC)):
+        cfg = yaml.safe_load((ROOT / "agents" / "hyperparams" / f"{algo}.yml").read_text())
+        entry = cfg["BearingPreload-v0"]
+        assert entry["policy"] == "MlpPolicy" and entry["n_timesteps"] > 0
+        assert isinstance(entry["policy_kwargs"], str)          # RL Zoo evaluates it
+        cls("MlpPolicy", BearingPreloadSB3VecEnv(num_envs=1, scenario="paper"), **train.hyperparams(algo))
+
+
+@pytest.mark.parametrize("algo", ["ppo", "sac"])
+def test_smoke_training_saves_reloads_and_evaluates(algo, tmp_path):
+    sys.path.insert(0, str(ROOT))
+    import train
+    out = tmp_path / algo
+    rc = train.main(["--algo", algo, "--timesteps", "128", "--n-envs", "2", "--out", str(out),
+                     "--episode-steps", "16", "--eval-episodes", "2", "--eval-freq", "64",
+                     "--checkpoint-freq", "64", "--no-progress"])
+    assert rc == 0
+    for name in ("model.zip", "vec_normalize.pkl", "config.json", "evaluation.md", "evaluation.csv"):
+        assert (out / name).exists(), name
+    cfg = json.loads((out / "config.json").read_text())
+    assert cfg["num_timesteps"] >= 128
+    text = (out / "evaluation.md").read_text()
+    assert "trained" in text and "constant" in text and "feedback" in text
+    # VecNormalize statistics survive save/load
+    with (out / "vec_normalize.pkl").open("rb") as fh:
+        vn = pickle.load(fh)
+    assert vn.obs_rms.count > 100 and np.all(np.isfinite(vn.obs_rms.mean)) and np.any(vn.obs_rms.var != 1.0)
+    from agents.evaluate import load_trained
+    pol = load_trained(out)
+    np.testing.assert_array_equal(pol.obs_rms.mean, vn.obs_rms.mean)
+    # resumable
+    rc = train.main(["--algo", algo, "--timesteps", "64", "--n-envs", "2", "--out", str(out), "--resume",
+                     "--episode-steps", "16", "--eval-episodes", "0", "--eval-freq", "64",
+                     "--checkpoint-freq", "64", "--no-progress"])
+    assert rc == 0 and json.loads((out / "config.json").read_text())["num_timesteps"] > cfg["num_timesteps"]

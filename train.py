@@ -1,0 +1,120 @@
+"""Train a preload controller with Stable-Baselines3 and evaluate it against the baselines.
+
+    python train.py                          # the main job: PPO, ~15 min on 2 cores, then evaluation
+    python train.py --algo sac --timesteps 200000 --n-envs 4 --seed 1 --out runs/sac
+    python train.py --out runs/ppo --resume  # continue from the last checkpoint in runs/ppo
+
+Writes to --out: model.zip, vec_normalize.pkl (observation/reward statistics, reloaded with
+training=False for evaluation), config.json, checkpoints/ (resumable), tensorboard/ (if
+tensorboard is installed), eval/ (EvalCallback), and evaluation.md/.csv/_traces.png
+(agents.evaluate on held-out seeds).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import time
+from pathlib import Path
+
+
+def build_parser() -> argparse.ArgumentParser:
+    ap = argparse.ArgumentParser(description="Train PPO or SAC on BearingPreload-v0 and evaluate it.")
+    ap.add_argument("--algo", choices=("ppo", "sac"), default="ppo")
+    ap.add_argument("--timesteps", type=int, default=36000, help="environment steps (control intervals)")
+    ap.add_argument("--n-envs", type=int, default=2, help="environments stepped together by the batched kernel")
+    ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--out", default="runs/ppo", help="output directory")
+    ap.add_argument("--episode-steps", type=int, default=100, help="control intervals per training episode")
+    ap.add_argument("--eval-episodes", type=int, default=20, help="held-out episodes per policy at the end (0: skip)")
+    ap.add_argument("--eval-freq", type=int, default=6000, help="EvalCallback period in environment steps")
+    ap.add_argument("--checkpoint-freq", type=int, default=6000, help="checkpoint period in environment steps")
+    ap.add_argument("--resume", action="store_true", help="continue from the newest checkpoint in --out")
+    ap.add_argument("--no-progress", action="store_true", help="no progress bar")
+    return ap
+
+
+def hyperparams(algo: str) -> dict:
+    import yaml
+    path = Path(__file__).resolve().parent / "agents" / "hyperparams" / f"{algo}.yml"
+    cfg = yaml.safe_load(path.read_text())["BearingPreload-v0"]
+    out = {k: v for k, v in cfg.items() if k not in ("n_timesteps", "policy", "normalize", "n_envs", "policy_kwargs", "env_kwargs")}
+    if "policy_kwargs" in cfg:
+        out["policy_kwargs"] = eval(cfg["policy_kwargs"], {"dict": dict})  # RL Zoo stores it as a string
+    return out
+
+
+def make_env(n_envs: int, seed: int, episode_steps: int):
+    from stable_baselines3.common.vec_env import VecMonitor
+
+    from bearing_gym.envs import BearingPreloadSB3VecEnv
+    venv = BearingPreloadSB3VecEnv(num_envs=n_envs, episode_steps=episode_steps,
+                                   max_episode_steps=episode_steps, num_threads=min(n_envs, os.cpu_count() or 1))
+    venv.seed(seed)
+    return VecMonitor(venv)
+
+
+def main(argv: list[str] | None = None) -> int:
+    args = build_parser().parse_args(argv)
+    if args.timesteps < 1 or args.n_envs < 1:
+        raise SystemExit("train.py: --timesteps and --n-envs must be >= 1")
+    import torch
+    from stable_baselines3 import PPO, SAC
+    from stable_baselines3.common.callbacks import CallbackList, CheckpointCallback, EvalCallback
+    from stable_baselines3.common.vec_env import VecNormalize
+
+    torch.set_num_threads(1)          # the environment kernel uses the cores
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    algo_cls = {"ppo": PPO, "sac": SAC}[args.algo]
+    t0 = time.time()
+
+    env = make_env(args.n_envs, args.seed, args.episode_steps)
+    eval_env = make_env(1, args.seed + 10_000, args.episode_steps)
+    ckpt_dir = out / "checkpoints"
+    latest = sorted(ckpt_dir.glob("model_*_steps.zip"), key=lambda p: int(p.stem.split("_")[-2])) if ckpt_dir.exists() else []
+    if args.resume and latest:
+        last = latest[-1]
+        steps = last.stem.split("_")[-2]
+        env = VecNormalize.load(str(ckpt_dir / f"model_vecnormalize_{steps}_steps.pkl"), env)
+        model = algo_cls.load(last, env=env, device="cpu")
+        print(f"resuming from {last} ({steps} steps)")
+    else:
+        if args.resume:
+            print(f"no checkpoint in {ckpt_dir}: starting a new run")
+        env = VecNormalize(env, norm_obs=True, norm_reward=True, clip_obs=10.0)
+        try:
+            import tensorboard  # noqa: F401
+            tb = str(out / "tensorboard")
+        except ImportError:
+            tb = None
+        model = algo_cls("MlpPolicy", env, seed=args.seed, device="cpu", verbose=0,
+                         tensorboard_log=tb, **hyperparams(args.algo))
+    eval_env = VecNormalize(eval_env, norm_obs=True, norm_reward=False, training=False)
+    per_env = max(1, args.n_envs)
+    callbacks = CallbackList([
+        EvalCallback(eval_env, n_eval_episodes=2, eval_freq=max(1, args.eval_freq // per_env),
+                     best_model_save_path=str(out / "eval"), log_path=str(out / "eval"), deterministic=True),
+        CheckpointCallback(save_freq=max(1, args.checkpoint_freq // per_env), save_path=str(ckpt_dir),
+                           name_prefix="model", save_vecnormalize=True),
+    ])
+    model.learn(total_timesteps=args.timesteps, callback=callbacks, progress_bar=not args.no_progress,
+                reset_num_timesteps=not (args.resume and latest))
+    model.save(out / "model.zip")
+    env.save(str(out / "vec_normalize.pkl"))
+    train_s = time.time() - t0
+    cfg = dict(vars(args), train_wall_s=train_s, num_timesteps=int(model.num_timesteps))
+    (out / "config.json").write_text(json.dumps(cfg, indent=2))
+    print(f"trained {model.num_timesteps} steps in {train_s / 60:.1f} min -> {out}")
+    if args.eval_episodes > 0:
+        from agents.evaluate import evaluate
+        evaluate(out, episodes=args.eval_episodes, episode_steps=args.episode_steps)
+        cfg["total_wall_s"] = time.time() - t0
+        (out / "config.json").write_text(json.dumps(cfg, indent=2))
+        print(f"total wall time {cfg['total_wall_s'] / 60:.1f} min")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
