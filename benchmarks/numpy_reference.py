@@ -3,8 +3,9 @@ model, written independently of the numba kernels in :mod:`bearing_gym.physics`.
 
 It is meant as (a) a readable statement of what the kernels compute and (b) a yardstick for the
 benchmark in ``bench_integrator.py``. Everything is vectorised over the balls; no numba is used
-(``bearing_gym`` is only imported to read the parameter dataclasses and, in the two helpers at the
-bottom, to convert a :class:`bearing_gym.physics.SimulatorState` to and from this module's state).
+(``bearing_gym`` is only imported to read the parameter dataclasses and, in the conversion
+helpers at the bottom, to convert a :class:`bearing_gym.physics.SimulatorState` to and from this
+module's state).
 
 Model (same equations and the same algorithmic choices as the package, so that the results agree
 to rounding error when started from the same state):
@@ -13,18 +14,27 @@ to rounding error when started from the same state):
 * Race-control kinematics (App. B): orbital speed omega_m, spin omega_b, gyroscopic moment M_g
   under outer- or inner-race control and their derivatives in alpha_i, alpha_o.
 * Ball equilibrium (eq 28) solved per ball by Newton-Raphson (eq 31) with the analytic Jacobian
-  (App. C), warm-started from the previous ball displacement (v_r, v_z). The iteration stops when
-  the Newton step is below ``newton_tol_m`` (the step is *not* applied, the state is that of the
-  last residual evaluation), steps are clipped to 0.1 L_o, a ball with no contact at all is moved
-  against the outer race when it has centrifugal force, and left alone (no load) at zero speed.
+  (App. C), warm-started from the previous ball displacement (v_r, v_z). The Newton step is
+  taken in polar coordinates about the outer-groove centre, (l_o, alpha_o), so that the ball
+  moves along the groove arc. The iteration stops when the step (|dl_o|, l_o |dalpha_o|) is below
+  ``newton_tol_m`` (1 nm by default; that last step is taken and the contact state is moved to
+  the new point to first order with the derivatives of the last evaluation instead of
+  evaluating the model again); steps are clipped to 0.1 L_o; a step that makes the residual
+  (max-norm) grow is halved along the arc (up to 30 times in a row); a ball without outer
+  contact that is pushed outwards (centrifugal force plus inner load > 0) is first put against
+  the outer race where the Hertz load balances that push; a ball touching neither race at rest
+  is left alone (no load).
+* Race-control friction lambda (eqs 28, 32) multiplied by a smooth contact factor that rises from
+  0 at delta = 0 to 1 at delta = FRICTION_ONSET_M = 0.1 um (smoothstep), in the Jacobian too.
 * Race control "outer", "inner" or "auto" (Jones/Harris criterion, re-solving a ball whose
   preferred control differs from the one it was solved with).
 * Race and ball waviness (eqs 9-14, ring-angle form) and ball oversize are implemented; with
   the default parameters all of them are zero.
 * Bearing force F = sum_j T_j^T Q_j (eqs 3-5, 32-33).
 * Newmark-beta step with fixed-point (equilibrium) iterations on the displacement, viscous
-  damping and the gyroscopic coupling of eq 35; the cage angle, shaft angle and ball spin angles
-  advance explicitly with the speeds of the previous step (eqs 7, 8, 15).
+  damping and the gyroscopic coupling of eq 35; the first guess of a_{n+1} and of every ball's
+  (v_r, v_z) are linear extrapolations of the last two steps; the cage angle, shaft angle and
+  ball spin angles advance explicitly with the speeds of the previous step (eqs 7, 8, 15).
 
 Usage::
 
@@ -47,6 +57,11 @@ import numpy as np
 
 __all__ = ["NumpyModel", "BallState", "RotorState", "state_from_simulator", "state_to_simulator",
            "ball_state_from_arrays", "STATUS_TEXT"]
+
+# the race-control friction of a contact fades in over this deflection (package:
+# bearing_gym.physics.ball.FRICTION_ONSET_M; the test checks that the two agree)
+FRICTION_ONSET_M = 1.0e-7
+MAX_HALVINGS = 30         # consecutive step halvings allowed in the ball Newton iteration
 
 # status codes (same meaning and values as the package)
 OK, NOT_CONVERGED, SINGULAR, NEWMARK_NOT_CONVERGED, DIVERGED = 0, 1, 2, 3, 4
@@ -77,9 +92,10 @@ class BallState:
     m_g: np.ndarray = None        # gyroscopic moment (N m)
     delta_i: np.ndarray = None    # deflections (m, negative = gap)
     delta_o: np.ndarray = None
+    lam_i: np.ndarray = None      # effective race-control factor on the inner race (eq 32)
 
     _FIELDS = ("q_i", "q_o", "cos_ai", "sin_ai", "cos_ao", "sin_ao", "omega_m", "omega_b", "m_g",
-               "delta_i", "delta_o")
+               "delta_i", "delta_o", "lam_i")
 
     def __post_init__(self):
         n = self.v.shape[0]
@@ -105,12 +121,14 @@ class RotorState:
     cage_speed: float
     psi_b: np.ndarray             # (N,) ball spin angles (eq 15)
     balls: BallState
+    A_prev: np.ndarray            # (5,) acceleration of the previous step (predictor)
+    v_prev: np.ndarray            # (N, 2) ball displacements of the previous step (warm start)
     F: np.ndarray = field(default_factory=lambda: np.zeros(5))   # last bearing force
 
     def copy(self) -> "RotorState":
         return RotorState(self.X.copy(), self.V.copy(), self.A.copy(), self.t, self.shaft_angle,
                           self.cage_angle, self.cage_speed, self.psi_b.copy(), self.balls.copy(),
-                          self.F.copy())
+                          self.A_prev.copy(), self.v_prev.copy(), self.F.copy())
 
 
 # ---------------------------------------------------------------------------------------------
@@ -126,7 +144,9 @@ class NumpyModel:
 
     Loads and speed are plain attributes (``P`` (5,), ``omega``) and may be changed between steps.
     ``counters`` accumulates work statistics: force evaluations, ball residual evaluations
-    (Newton iterations summed over balls), Newmark iterations and steps.
+    (Newton iterations summed over balls), vectorised Newton passes (one pass evaluates the
+    residual of every ball still iterating, so passes per solve = the most iterations any ball
+    needs), Newmark iterations and steps.
     """
 
     def __init__(self, params, damping=None):
@@ -325,10 +345,16 @@ class NumpyModel:
                    + (1.5 * K_i * np.sqrt(dpos_i))[:, None] * grad_li)
         grad_qo = ((dpos_o ** 1.5 * dK_o * drx_o)[:, None] * grad_ao
                    + (1.5 * K_o * np.sqrt(dpos_o))[:, None] * grad_lo)
-        # race control (App. B) and the friction multipliers of eq 28 (zero at a lost contact)
+        # race control (App. B) and the friction multipliers of eq 28: lambda_i = 0, lambda_o = 2
+        # (outer control) or 1, 1 (inner control), times a contact factor that fades the friction
+        # out smoothly as a contact is lost
         wm, dwm_i, dwm_o, mg, dmg_i, dmg_o, wb = self.kinematics(ci, si, co, so, inner)
-        lam_i = np.where(inner, in_i, 0.0).astype(float)
-        lam_o = np.where(inner, 1.0, 2.0) * in_o
+        s_i, ds_i = contact_factor(delta_i)
+        s_o, ds_o = contact_factor(delta_o)
+        lam_i = np.where(inner, s_i, 0.0)
+        lam_o = np.where(inner, 1.0, 2.0) * s_o
+        grad_lam_i = np.where(inner, ds_i, 0.0)[:, None] * grad_li
+        grad_lam_o = (np.where(inner, 1.0, 2.0) * ds_o)[:, None] * grad_lo
         grad_wm = dwm_i[:, None] * grad_ai + dwm_o[:, None] * grad_ao
         grad_mg = dmg_i[:, None] * grad_ai + dmg_o[:, None] * grad_ao
         # centrifugal force (eq 29) at orbit radius D_p/2 + v_r
@@ -340,63 +366,139 @@ class NumpyModel:
         fric = lam_i[:, None] * t_i - lam_o[:, None] * t_o          # (M, 2)
         g = q_i[:, None] * n_i - q_o[:, None] * n_o - (mg / db)[:, None] * fric
         g[:, 0] += fe
-        # Jacobian by the product rule; d t/dalpha = -n
-        d_fric = (-(lam_i[:, None] * n_i)[:, :, None] * grad_ai[:, None, :]
-                  + (lam_o[:, None] * n_o)[:, :, None] * grad_ao[:, None, :])
-        J = (n_i[:, :, None] * grad_qi[:, None, :] + q_i[:, None, None] * t_i[:, :, None] * grad_ai[:, None, :]
-             - n_o[:, :, None] * grad_qo[:, None, :] - q_o[:, None, None] * t_o[:, :, None] * grad_ao[:, None, :]
-             - fric[:, :, None] * grad_mg[:, None, :] / db - (mg / db)[:, None, None] * d_fric)
+        # Jacobian J[:, a, b] = dg_a/dv_b by the product rule (d n/dalpha = t, d t/dalpha = -n);
+        # outer(a, b) is the per-ball outer product a_i b_j
+        outer = lambda a, b: a[:, :, None] * b[:, None, :]  # noqa: E731
+        d_fric = (-outer(lam_i[:, None] * n_i, grad_ai) + outer(lam_o[:, None] * n_o, grad_ao)
+                  + outer(t_i, grad_lam_i) - outer(t_o, grad_lam_o))
+        J = (outer(n_i, grad_qi) + outer(q_i[:, None] * t_i, grad_ai)
+             - outer(n_o, grad_qo) - outer(q_o[:, None] * t_o, grad_ao)
+             - outer(fric, grad_mg) / db - (mg / db)[:, None, None] * d_fric)
         J[:, 0, :] += grad_fe
         contact = dict(q_i=q_i, q_o=q_o, cos_ai=ci, sin_ai=si, cos_ao=co, sin_ao=so, omega_m=wm,
-                       omega_b=wb, m_g=mg, delta_i=delta_i, delta_o=delta_o, K_o=K_o, fe=fe)
+                       omega_b=wb, m_g=mg, delta_i=delta_i, delta_o=delta_o, lam_i=lam_i, K_o=K_o,
+                       fe=fe, grad_qi=grad_qi, grad_qo=grad_qo, grad_ai=grad_ai, grad_ao=grad_ao,
+                       grad_wm=grad_wm, grad_mg=grad_mg, grad_lam_i=grad_lam_i)
         return g, J, contact
 
     # --- Newton-Raphson for all balls (eq 31) -------------------------------------------------
+    def arc_point(self, l_o, cos_ao, sin_ao, d_alpha):
+        """Ball displacement v (M, 2) at distance ``l_o`` from the outer-groove centre and angle
+        alpha_o + d_alpha (eq 19 solved for v)."""
+        c, s = np.cos(d_alpha), np.sin(d_alpha)
+        return np.stack([l_o * (cos_ao * c - sin_ao * s) - self.L_o * math.cos(self.alpha0),
+                         l_o * (sin_ao * c + cos_ao * s) - self.L_o * math.sin(self.alpha0)], 1)
+
     def solve_balls(self, idx, balls: BallState, u, dist_i, dist_o):
         """Solve the balls ``idx`` (index array) in place, warm-started from ``balls.v[idx]``.
 
-        Each ball iterates independently; converged balls drop out of the active set. Returns
-        the per-ball status array (len(idx)).
+        Each ball iterates independently; balls that are done drop out of the active set.
+        Returns the per-ball status array (len(idx)).
         """
-        c0, s0 = math.cos(self.alpha0), math.sin(self.alpha0)
         max_step = 0.1 * (self.L_o + 1e-9)
-        status = np.full(idx.size, NOT_CONVERGED)
-        active = np.arange(idx.size)            # positions in idx still iterating
+        m = idx.size
+        status = np.full(m, NOT_CONVERGED)
+        # last accepted point, in polar coordinates about the outer-groove centre, and the step
+        # (dl_o, dalpha_o) taken from it (halved when backtracking)
+        prev_norm = np.full(m, np.inf)
+        prev_l = np.zeros(m)
+        prev_c = np.ones(m)
+        prev_s = np.zeros(m)
+        step_l = np.zeros(m)
+        step_a = np.zeros(m)
+        halvings = np.zeros(m, dtype=int)
+        active = np.arange(m)                   # positions in idx still iterating
         for _ in range(self.nt_maxit + 1):
             if active.size == 0:
                 break
             j = idx[active]
-            v = balls.v[j]
-            g, J, con = self.ball_residual(v, u[j], dist_i[j], dist_o[j], balls.inner_control[j])
+            g, J, con = self.ball_residual(balls.v[j], u[j], dist_i[j], dist_o[j],
+                                           balls.inner_control[j])
             self.counters["ball_residuals"] += active.size
+            self.counters["newton_passes"] += 1
             for name in BallState._FIELDS:
                 getattr(balls, name)[j] = con[name]
-            free = (con["delta_i"] <= 0.0) & (con["delta_o"] <= 0.0)
-            # a free ball at speed is put against the outer race (Hertz load = centrifugal force)
-            throw = free & (con["fe"] > 0.0)
+            # no outer contact: a ball pushed outwards (centrifugal force + inner load) is put
+            # against the outer race, where the Hertz load balances that push; a ball touching
+            # neither race at rest is done and carries nothing
+            no_outer = con["delta_o"] <= 0.0
+            push = con["fe"] + con["q_i"]
+            throw = no_outer & (push > 0.0)
             if throw.any():
-                reach = dist_o[j[throw]] + (con["fe"][throw] / con["K_o"][throw]) ** (2.0 / 3.0)
-                balls.v[j[throw], 0] = reach * con["cos_ao"][throw] - self.L_o * c0
-                balls.v[j[throw], 1] = reach * con["sin_ao"][throw] - self.L_o * s0
-            at_rest = free & ~throw             # unloaded ball at rest: done, no force
+                k = active[throw]
+                reach = dist_o[j[throw]] + (push[throw] / con["K_o"][throw]) ** (2.0 / 3.0)
+                balls.v[j[throw]] = self.arc_point(reach, con["cos_ao"][throw],
+                                                   con["sin_ao"][throw], 0.0)
+                prev_norm[k] = np.inf
+            at_rest = no_outer & ~throw & (con["delta_i"] <= 0.0)
             status[active[at_rest]] = OK
-            # Newton step for the balls in contact: J dv = -g
-            newton = ~free
-            det = J[:, 0, 0] * J[:, 1, 1] - J[:, 0, 1] * J[:, 1, 0]
+            # backtracking: the residual grew, so go back and try half of the last step
+            norm = np.abs(g).max(axis=1)
+            rest = ~throw & ~at_rest
+            back = rest & (norm > prev_norm[active]) & (halvings[active] < MAX_HALVINGS)
+            if back.any():
+                k = active[back]
+                halvings[k] += 1
+                step_l[k] *= 0.5
+                step_a[k] *= 0.5
+                balls.v[j[back]] = self.arc_point(prev_l[k] + step_l[k], prev_c[k], prev_s[k],
+                                                  step_a[k])
+            # Newton step for the others, in (l_o, alpha_o): J_p = J [dv/dl_o, dv/dalpha_o]
+            newton = rest & ~back
+            halvings[active[newton]] = 0
+            l_o = con["delta_o"] + dist_o[j]
+            co, so = con["cos_ao"], con["sin_ao"]
+            dv_dpolar = np.stack([np.stack([co, so], 1),
+                                  l_o[:, None] * np.stack([-so, co], 1)], 2)  # (M, 2, 2)
+            Jp = J @ dv_dpolar
+            det = Jp[:, 0, 0] * Jp[:, 1, 1] - Jp[:, 0, 1] * Jp[:, 1, 0]
             singular = newton & ~((det != 0.0) & np.isfinite(det))
             status[active[singular]] = SINGULAR
             newton &= ~singular
             with np.errstate(divide="ignore", invalid="ignore"):
-                dv = -np.stack([J[:, 1, 1] * g[:, 0] - J[:, 0, 1] * g[:, 1],
-                                -J[:, 1, 0] * g[:, 0] + J[:, 0, 0] * g[:, 1]], 1) / det[:, None]
-            step = np.abs(dv).max(axis=1)
-            converged = newton & (step < self.nt_tol)
+                dl = -(Jp[:, 1, 1] * g[:, 0] - Jp[:, 0, 1] * g[:, 1]) / det
+                da = -(-Jp[:, 1, 0] * g[:, 0] + Jp[:, 0, 0] * g[:, 1]) / det
+            size = np.maximum(np.abs(dl), np.abs(l_o * da))
+            converged = newton & (size < self.nt_tol)
             status[active[converged]] = OK
+            if converged.any():
+                self._take_last_step(balls, j[converged], dl[converged], da[converged],
+                                     l_o[converged],
+                                     {key: val[converged] for key, val in con.items()})
             move = newton & ~converged
-            scale = np.where(step > max_step, max_step / np.where(move, step, 1.0), 1.0)
-            balls.v[j[move]] += dv[move] * scale[move, None]
-            active = active[move | throw]
+            if move.any():
+                k = active[move]
+                shrink = np.where(size[move] > max_step, max_step / size[move], 1.0)
+                step_l[k] = dl[move] * shrink
+                step_a[k] = da[move] * shrink
+                prev_norm[k] = norm[move]
+                prev_l[k], prev_c[k], prev_s[k] = l_o[move], co[move], so[move]
+                balls.v[j[move]] = self.arc_point(l_o[move] + step_l[k], co[move], so[move],
+                                                  step_a[k])
+            active = active[move | throw | back]
         return status
+
+    @staticmethod
+    def _take_last_step(balls: BallState, j, dl, da, l_o, con):
+        """Converged balls: take the last (sub-tolerance) Newton step (dl_o, dalpha_o) to first
+        order and move the contact state to the new point with the derivatives of the last
+        evaluation instead of evaluating the model again (in the quadratic regime the error
+        left is ~step^2 / delta). omega_b is not moved."""
+        co, so = con["cos_ao"], con["sin_ao"]
+        dv = np.stack([dl * co - l_o * da * so, dl * so + l_o * da * co], 1)
+        balls.v[j] += dv
+        along = lambda grad: np.sum(grad * dv, axis=1)  # noqa: E731  (directional derivative)
+        balls.q_i[j] = np.maximum(con["q_i"] + along(con["grad_qi"]), 0.0)
+        balls.q_o[j] = np.maximum(con["q_o"] + along(con["grad_qo"]), 0.0)
+        da_i = along(con["grad_ai"])
+        ci, si = con["cos_ai"] - con["sin_ai"] * da_i, con["sin_ai"] + con["cos_ai"] * da_i
+        balls.cos_ai[j], balls.sin_ai[j] = ci, si
+        balls.cos_ao[j], balls.sin_ao[j] = co - so * da, so + co * da
+        balls.omega_m[j] = con["omega_m"] + along(con["grad_wm"])
+        balls.m_g[j] = con["m_g"] + along(con["grad_mg"])
+        balls.lam_i[j] = con["lam_i"] + along(con["grad_lam_i"])
+        balls.delta_i[j] = con["delta_i"] - (ci * dv[:, 0] + si * dv[:, 1])
+        balls.delta_o[j] = con["delta_o"] + dl
 
     # --- bearing force (eqs 3-6, 32-33) -------------------------------------------------------
     def bearing_force(self, U, cage_angle, shaft_angle, psi_b, balls: BallState):
@@ -428,9 +530,9 @@ class NumpyModel:
             if flip.size:
                 balls.inner_control[flip] = ~balls.inner_control[flip]
                 status[flip] = self.solve_balls(flip, balls, u, dist_i, dist_o)
-        # eq 32: force and moment of each ball on the inner race (friction only if inner control)
-        lam_i = balls.inner_control & (balls.q_i > 0.0)
-        fr = np.where(lam_i, balls.m_g / self.db, 0.0)
+        # eq 32: force and moment of each ball on the inner race (friction only under inner
+        # control, faded out with the inner contact)
+        fr = balls.lam_i * balls.m_g / self.db
         Q_r = -balls.q_i * balls.cos_ai - fr * balls.sin_ai
         Q_z = -balls.q_i * balls.sin_ai + fr * balls.cos_ai
         Q_phi = fr * self.r_i
@@ -449,8 +551,8 @@ class NumpyModel:
             e_bar = 1.0003 + 0.5968 / ratio
             k_bar = 1.0339 * ratio ** 0.6360
             r_bar = r_x * r_y / (r_x + r_y)
-            a = np.cbrt(6.0 * k_bar ** 2 * e_bar * np.maximum(q, 0.0) * r_bar / (np.pi * self.e_eff))
-            return a, e_bar
+            load = np.maximum(q, 0.0)
+            return np.cbrt(6.0 * k_bar ** 2 * e_bar * load * r_bar / (np.pi * self.e_eff)), e_bar
 
         a_i, e_i = semi_axis(balls.q_i, db * (dp - db * balls.cos_ai) / (2 * dp), self.ry_i)
         a_o, e_o = semi_axis(balls.q_o, db * (dp + db * balls.cos_ao) / (2 * dp), self.ry_o)
@@ -484,10 +586,16 @@ class NumpyModel:
         st.shaft_angle += self.omega * dt
         st.cage_angle += st.cage_speed * dt
         st.psi_b += st.balls.omega_b * dt
+        # ball Newton warm starts: linear extrapolation of each ball's last two solutions
+        v_now = st.balls.v.copy()
+        st.balls.v[:] = 2.0 * v_now - st.v_prev
+        st.v_prev = v_now
         S, CG = self.system_matrix()
         v_pred = st.V + (1.0 - gam) * dt * st.A
         x_base = st.X + dt * st.V + (0.5 - beta) * dt * dt * st.A
-        X_new = x_base + beta * dt * dt * st.A          # predictor: a_{n+1} = a_n
+        a_guess = 2.0 * st.A - st.A_prev                 # predictor: a_{n+1} from a_n, a_{n-1}
+        st.A_prev = st.A.copy()
+        X_new = x_base + beta * dt * dt * a_guess
         rhs0 = self.external_force(st.shaft_angle) - CG @ v_pred
         for _ in range(self.nm_maxit):
             self.counters["newmark_iters"] += 1
@@ -526,29 +634,42 @@ class NumpyModel:
         return OK, n_steps, hist
 
     def reset_counters(self):
-        self.counters = dict(force_evals=0, ball_residuals=0, newmark_iters=0, steps=0)
+        self.counters = dict(force_evals=0, ball_residuals=0, newton_passes=0, newmark_iters=0,
+                             steps=0)
+
+
+def contact_factor(delta):
+    """Smooth 0 -> 1 contact factor of the race-control friction and its derivative in delta:
+    smoothstep x^2 (3 - 2x) of x = delta / FRICTION_ONSET_M clipped to [0, 1]."""
+    x = np.clip(delta / FRICTION_ONSET_M, 0.0, 1.0)
+    return x * x * (3.0 - 2.0 * x), 6.0 * x * (1.0 - x) / FRICTION_ONSET_M
 
 
 # ---------------------------------------------------------------------------------------------
 # conversion from / to the package's state arrays (uses the package's column layout)
 # ---------------------------------------------------------------------------------------------
+_BALL_COLUMNS = dict(q_i="B_QI", q_o="B_QO", cos_ai="B_CI", sin_ai="B_SI", cos_ao="B_CO",
+                     sin_ao="B_SO", omega_m="B_WM", omega_b="B_WB", m_g="B_MG", delta_i="B_DI",
+                     delta_o="B_DO", lam_i="B_LAMI")
+
+
 def ball_state_from_arrays(ball_v: np.ndarray, ball_out: np.ndarray) -> BallState:
     """BallState from the package's ``ball_v`` (N, 2) and ``ball_out`` (N, N_BALL_OUT)."""
     from bearing_gym.physics import ball as B
-    cols = dict(q_i=B.B_QI, q_o=B.B_QO, cos_ai=B.B_CI, sin_ai=B.B_SI, cos_ao=B.B_CO,
-                sin_ao=B.B_SO, omega_m=B.B_WM, omega_b=B.B_WB, m_g=B.B_MG, delta_i=B.B_DI,
-                delta_o=B.B_DO)
     return BallState(np.array(ball_v, float), ball_out[:, B.B_CTRL] > 0.5,
-                     **{k: ball_out[:, c].copy() for k, c in cols.items()})
+                     **{k: ball_out[:, getattr(B, c)].copy() for k, c in _BALL_COLUMNS.items()})
 
 
 def state_from_simulator(s) -> RotorState:
     """RotorState from a :class:`bearing_gym.physics.SimulatorState`."""
+    from bearing_gym.physics import ball as B
     from bearing_gym.physics import rotor as R
     return RotorState(s.X.copy(), s.V.copy(), s.A.copy(), float(s.scal[R.S_T]),
                       float(s.scal[R.S_SHAFT]), float(s.scal[R.S_CAGE]),
                       float(s.scal[R.S_CAGE_SPEED]), s.psi_b.copy(),
-                      ball_state_from_arrays(s.ball_v, s.ball_out))
+                      ball_state_from_arrays(s.ball_v, s.ball_out),
+                      s.scal[R.S_A_PREV:R.S_A_PREV + 5].copy(),
+                      s.ball_out[:, [B.B_VR_PREV, B.B_VZ_PREV]].copy())
 
 
 def state_to_simulator(st: RotorState, like):
@@ -560,12 +681,11 @@ def state_to_simulator(st: RotorState, like):
     out.scal[R.S_T], out.scal[R.S_SHAFT] = st.t, st.shaft_angle
     out.scal[R.S_CAGE], out.scal[R.S_CAGE_SPEED] = st.cage_angle, st.cage_speed
     out.psi_b[:] = st.psi_b
+    out.scal[R.S_A_PREV:R.S_A_PREV + 5] = st.A_prev
     out.ball_v[:] = st.balls.v
-    b = st.balls
-    for name, col in (("q_i", B.B_QI), ("q_o", B.B_QO), ("cos_ai", B.B_CI), ("sin_ai", B.B_SI),
-                      ("cos_ao", B.B_CO), ("sin_ao", B.B_SO), ("omega_m", B.B_WM),
-                      ("omega_b", B.B_WB), ("m_g", B.B_MG), ("delta_i", B.B_DI),
-                      ("delta_o", B.B_DO)):
-        out.ball_out[:, col] = getattr(b, name)
-    out.ball_out[:, B.B_CTRL] = b.inner_control.astype(float)
+    out.ball_out[:, B.B_VR_PREV] = st.v_prev[:, 0]
+    out.ball_out[:, B.B_VZ_PREV] = st.v_prev[:, 1]
+    for name, col in _BALL_COLUMNS.items():
+        out.ball_out[:, getattr(B, col)] = getattr(st.balls, name)
+    out.ball_out[:, B.B_CTRL] = st.balls.inner_control.astype(float)
     return out

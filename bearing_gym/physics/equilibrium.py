@@ -4,7 +4,7 @@ built from eqs 3-33 with the loads of eq 35, no unbalance, at t = 0).
 The rotor displacement U solves F(U) + P = 0, where F is the bearing force of eq 33 (each ball
 in its own equilibrium, eq 28) and P = (P_x, P_y, P, 0, 0). It is found by a damped Newton
 iteration whose Jacobian, the bearing stiffness K = -dF/dU, is taken by central differences of
-the fully converged bearing force (each ball solved to machine precision).
+the converged bearing force (each ball to a 1 nm Newton step plus a first-order update).
 """
 
 from __future__ import annotations
@@ -52,10 +52,12 @@ class StaticEquilibrium:
     bearing_force: np.ndarray     # (5,) F at the solution (= -P to the tolerance)
     residual: float               # max |F + P| (N; moments divided by r_p)
     iterations: int
+    shaft_speed_rad_s: float = 0.0
 
     @property
     def cage_speed_rad_s(self) -> float:
-        return float(self.cage_speed_ratio)  # pragma: no cover  (kept for symmetry)
+        """Cage speed omega_c (rad/s) of eq 7 at the equilibrium."""
+        return float(self.cage_speed_ratio * self.shaft_speed_rad_s)
 
 
 @njit(cache=True)
@@ -216,4 +218,4 @@ def static_equilibrium(params, *, max_iter: int = 200, tol_n: float = 1e-4) -> S
         orbital_speed=bo[:, B_WM].copy(), spin_speed=bo[:, B_WB].copy(),
         gyroscopic_moment=bo[:, B_MG].copy(), inner_race_control=bo[:, B_CTRL] > 0.5,
         stiffness=K, cage_speed_ratio=float(ratio), bearing_force=force(U), residual=res,
-        iterations=it)
+        iterations=it, shaft_speed_rad_s=float(omega))
