@@ -124,11 +124,13 @@ class RotorState:
     A_prev: np.ndarray            # (5,) acceleration of the previous step (predictor)
     v_prev: np.ndarray            # (N, 2) ball displacements of the previous step (warm start)
     F: np.ndarray = field(default_factory=lambda: np.zeros(5))   # last bearing force
+    A_prev2: np.ndarray | None = None   # (5,) acceleration two steps back (None: = A_prev)
 
     def copy(self) -> "RotorState":
         return RotorState(self.X.copy(), self.V.copy(), self.A.copy(), self.t, self.shaft_angle,
                           self.cage_angle, self.cage_speed, self.psi_b.copy(), self.balls.copy(),
-                          self.A_prev.copy(), self.v_prev.copy(), self.F.copy())
+                          self.A_prev.copy(), self.v_prev.copy(), self.F.copy(),
+                          None if self.A_prev2 is None else self.A_prev2.copy())
 
 
 # ---------------------------------------------------------------------------------------------
@@ -593,7 +595,9 @@ class NumpyModel:
         S, CG = self.system_matrix()
         v_pred = st.V + (1.0 - gam) * dt * st.A
         x_base = st.X + dt * st.V + (0.5 - beta) * dt * dt * st.A
-        a_guess = 2.0 * st.A - st.A_prev                 # predictor: a_{n+1} from a_n, a_{n-1}
+        a_prev2 = st.A_prev if st.A_prev2 is None else st.A_prev2
+        a_guess = 3.0 * st.A - 3.0 * st.A_prev + a_prev2  # predictor: quadratic in a_n, a_n-1, a_n-2
+        st.A_prev2 = st.A_prev.copy()
         st.A_prev = st.A.copy()
         X_new = x_base + beta * dt * dt * a_guess
         rhs0 = self.external_force(st.shaft_angle) - CG @ v_pred
@@ -669,7 +673,8 @@ def state_from_simulator(s) -> RotorState:
                       float(s.scal[R.S_CAGE_SPEED]), s.psi_b.copy(),
                       ball_state_from_arrays(s.ball_v, s.ball_out),
                       s.scal[R.S_A_PREV:R.S_A_PREV + 5].copy(),
-                      s.ball_out[:, [B.B_VR_PREV, B.B_VZ_PREV]].copy())
+                      s.ball_out[:, [B.B_VR_PREV, B.B_VZ_PREV]].copy(),
+                      A_prev2=s.scal[R.S_A_PREV2:R.S_A_PREV2 + 5].copy())
 
 
 def state_to_simulator(st: RotorState, like):
@@ -682,6 +687,7 @@ def state_to_simulator(st: RotorState, like):
     out.scal[R.S_CAGE], out.scal[R.S_CAGE_SPEED] = st.cage_angle, st.cage_speed
     out.psi_b[:] = st.psi_b
     out.scal[R.S_A_PREV:R.S_A_PREV + 5] = st.A_prev
+    out.scal[R.S_A_PREV2:R.S_A_PREV2 + 5] = st.A_prev if st.A_prev2 is None else st.A_prev2
     out.ball_v[:] = st.balls.v
     out.ball_out[:, B.B_VR_PREV] = st.v_prev[:, 0]
     out.ball_out[:, B.B_VZ_PREV] = st.v_prev[:, 1]

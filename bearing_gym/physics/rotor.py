@@ -11,7 +11,8 @@ Eq 35 with the damping the paper leaves out (see ``params.Damping``):
 
 theta_s is the shaft angle (omega t at constant speed). The bearing force depends on the
 displacement only (the balls are quasi-static), so each Newmark step is solved by fixed-point
-iteration on the displacement (predictor: a_{n+1} extrapolated linearly from a_n and a_{n-1},
+iteration on the displacement (predictor: a_{n+1} extrapolated quadratically from a_n, a_{n-1},
+a_{n-2},
 and each ball's Newton warm start extrapolated from its last two steps): for a given F(X_{n+1}) the acceleration follows from the
 linear system (M + gamma dt (C + G)) a = F + P - (C + G) v*, with v* = v_n + (1 - gamma) dt a_n,
 then X_{n+1} = X_n + dt v_n + dt^2 ((1/2 - beta) a_n + beta a_{n+1}); the iteration contracts
@@ -46,7 +47,8 @@ S_CAGE = 2         # cage angle psi_c (rad), eq 8
 S_CAGE_SPEED = 3   # cage speed omega_c (rad/s), eq 7
 S_A_PREV = 4       # 4..8: acceleration of the previous step (predictor extrapolation)
 S_N_EVAL = 9       # bearing-force evaluations so far (diagnostics)
-N_SCAL = 10
+S_A_PREV2 = 10     # 10..14: acceleration two steps back
+N_SCAL = 15
 
 # record columns
 R_T = 0
@@ -154,8 +156,9 @@ def integrate(prm, race_wav, ball_wav, ball_phase, ball_size, X, V, A, scal, psi
             ball_out[j, B_VZ_PREV] = vz
         newmark_predictor(X, V, A, dt, beta, gam, base, vstar)
         for k in range(5):
-            # predictor: a_{n+1} extrapolated linearly from a_n and a_{n-1}
-            a_pred = 2.0 * A[k] - scal[S_A_PREV + k]
+            # predictor: a_{n+1} extrapolated quadratically from a_n, a_{n-1}, a_{n-2}
+            a_pred = 3.0 * A[k] - 3.0 * scal[S_A_PREV + k] + scal[S_A_PREV2 + k]
+            scal[S_A_PREV2 + k] = scal[S_A_PREV + k]
             scal[S_A_PREV + k] = A[k]
             Xn[k] = newmark_displacement(base[k], a_pred, dt, beta)
         converged = False

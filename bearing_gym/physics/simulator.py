@@ -15,7 +15,7 @@ from .equilibrium import static_equilibrium
 from .layout import (CONTROL_INNER, I_CONTROL, I_CTX, I_CX, I_DT, I_IR, I_MASS, I_OMEGA, I_PHI0,
                      I_PX, I_PY, I_PZ, pack_params)
 from .rotor import (N_REC, N_SCAL, R_CAGE_ANGLE, R_CAGE_SPEED, R_F, R_N_INNER, R_SHAFT, R_T, R_V,
-                    R_X, S_A_PREV, S_CAGE, S_CAGE_SPEED, S_SHAFT, S_T, integrate,
+                    R_X, S_A_PREV, S_A_PREV2, S_CAGE, S_CAGE_SPEED, S_SHAFT, S_T, integrate,
                     solve_acceleration)
 
 __all__ = ["Simulator", "SimulatorState", "SimulationRecord", "SimulationError"]
@@ -168,6 +168,7 @@ class Simulator:
         s.scal[S_CAGE_SPEED] = cage_speed(s.ball_out, s.psi_b.shape[0], eq.cage_speed_ratio * omega)
         solve_acceleration(F, _zero_gamma(prm), 0.0, s.V, s.A)
         s.scal[S_A_PREV:S_A_PREV + 5] = s.A              # no extrapolation on the first step
+        s.scal[S_A_PREV2:S_A_PREV2 + 5] = s.A
         return self.state
 
     @property
