@@ -9,14 +9,12 @@ import gymnasium as gym
 import numpy as np
 from gymnasium import spaces
 
-from bearing_gym.params import BearingParams, _check_real
+from bearing_gym.params import BearingParams
 
 from .actuator import PreloadActuator
-from .common import check_actions, initial_observation, reset_one, step_outputs
-from .core import PreloadBatch
+from .common import check_actions, configure, initial_observation, reset_one, step_outputs
 from .observation import ObservationModel
 from .reward import RewardModel
-from .scenario import scenario_distribution
 
 __all__ = ["BearingPreloadEnv"]
 
@@ -104,21 +102,12 @@ class BearingPreloadEnv(gym.Env):
                  observation: ObservationModel | None = None, params: BearingParams | None = None,
                  episode_steps: int = 250, render_mode: str | None = None,
                  obs_noise_std: float | None = None):
-        _check_real("control_dt_s", control_dt_s, 1e-3, 1.0)
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode must be None or one of {self.metadata['render_modes']}, got {render_mode!r}")
-        self.scenario_dist = scenario_distribution(scenario)
-        self.actuator = actuator or PreloadActuator()
-        self.reward_model = reward or RewardModel()
-        obs_model = observation or ObservationModel()
-        if obs_noise_std is not None:
-            obs_model = ObservationModel(noise_std=_check_real("obs_noise_std", obs_noise_std, 0.0, 10.0))
-        self.observation_model = obs_model
-        self.episode_steps = int(episode_steps)
-        self._batch = PreloadBatch(1, params, control_dt_s, self.actuator)
-        self.control_dt_s = self._batch.control_dt_s
+        configure(self, scenario, control_dt_s, actuator, reward, observation, params,
+                  episode_steps, obs_noise_std, num_envs=1)
         self.action_space = spaces.Box(-1.0, 1.0, shape=(1,), dtype=np.float32)
-        self.observation_space = obs_model.space
+        self.observation_space = self.observation_model.space
         self.render_mode = render_mode
         self._history: deque = deque(maxlen=500)
         self._poincare: deque = deque(maxlen=2000)

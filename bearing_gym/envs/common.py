@@ -23,6 +23,30 @@ _TERMINATION_TEXT = {
 }
 
 
+def configure(env, scenario, control_dt_s: float, actuator, reward, observation, params,
+              episode_steps: int, obs_noise_std, num_envs: int) -> None:
+    """Set the components every preload env has (single or vector) on ``env``: scenario
+    distribution, actuator, reward and observation models, the physics batch and the spaces'
+    single-env shapes. Validates the arguments shared by both envs."""
+    from bearing_gym.params import _check_real
+
+    from .actuator import PreloadActuator
+    from .scenario import scenario_distribution
+    _check_real("control_dt_s", control_dt_s, 1e-3, 1.0)
+    if isinstance(episode_steps, bool) or not isinstance(episode_steps, (int, np.integer)) or episode_steps < 1:
+        raise ValueError(f"episode_steps must be an integer >= 1, got {episode_steps!r}")
+    env.scenario_dist = scenario_distribution(scenario)
+    env.actuator = actuator or PreloadActuator()
+    env.reward_model = reward or RewardModel()
+    obs_model = observation or ObservationModel()
+    if obs_noise_std is not None:
+        obs_model = ObservationModel(noise_std=_check_real("obs_noise_std", obs_noise_std, 0.0, 10.0))
+    env.observation_model = obs_model
+    env.episode_steps = int(episode_steps)
+    env._batch = PreloadBatch(num_envs, params, control_dt_s, env.actuator)
+    env.control_dt_s = env._batch.control_dt_s
+
+
 def check_actions(actions: np.ndarray, n: int) -> np.ndarray:
     """Validate a batch of actions (n, 1) in [-1, 1]; raise ValueError naming the problem."""
     a = np.asarray(actions, dtype=np.float64)

@@ -11,14 +11,12 @@ from gymnasium import spaces
 from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 
-from bearing_gym.params import BearingParams, _check_real
+from bearing_gym.params import BearingParams
 
 from .actuator import PreloadActuator
-from .common import check_actions, initial_observation, reset_one, step_outputs
-from .core import PreloadBatch
+from .common import check_actions, configure, initial_observation, reset_one, step_outputs
 from .observation import ObservationModel
 from .reward import RewardModel
-from .scenario import scenario_distribution
 
 __all__ = ["BearingPreloadVectorEnv", "BearingPreloadSB3VecEnv"]
 
@@ -46,24 +44,15 @@ class BearingPreloadVectorEnv(VectorEnv):
             raise ValueError("the vector env does not render; render a single BearingPreloadEnv")
         if isinstance(num_envs, bool) or not isinstance(num_envs, (int, np.integer)) or num_envs < 1:
             raise ValueError(f"num_envs must be an integer >= 1, got {num_envs!r}")
-        _check_real("control_dt_s", control_dt_s, 1e-3, 1.0)
         self.num_envs = int(num_envs)
-        self.scenario_dist = scenario_distribution(scenario)
-        self.actuator = actuator or PreloadActuator()
-        self.reward_model = reward or RewardModel()
-        obs_model = observation or ObservationModel()
-        if obs_noise_std is not None:
-            obs_model = ObservationModel(noise_std=_check_real("obs_noise_std", obs_noise_std, 0.0, 10.0))
-        self.observation_model = obs_model
-        self.episode_steps = int(episode_steps)
+        configure(self, scenario, control_dt_s, actuator, reward, observation, params,
+                  episode_steps, obs_noise_std, num_envs=self.num_envs)
         self.max_episode_steps = max_episode_steps
         if num_threads is not None and not (1 <= num_threads <= numba.config.NUMBA_NUM_THREADS):
             raise ValueError(f"num_threads must be in [1, {numba.config.NUMBA_NUM_THREADS}], got {num_threads}")
         self.num_threads = num_threads
-        self._batch = PreloadBatch(self.num_envs, params, control_dt_s, self.actuator)
-        self.control_dt_s = self._batch.control_dt_s
         self.single_action_space = spaces.Box(-1.0, 1.0, shape=(1,), dtype=np.float32)
-        self.single_observation_space = obs_model.space
+        self.single_observation_space = self.observation_model.space
         self.action_space = gym.vector.utils.batch_space(self.single_action_space, self.num_envs)
         self.observation_space = gym.vector.utils.batch_space(self.single_observation_space, self.num_envs)
         self.render_mode = None
