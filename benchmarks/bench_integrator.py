@@ -15,7 +15,8 @@ equilibrium. Measured:
 * Newmark steps for dt in {1, 2, 5, 10} us: numba (``Simulator.advance`` over 0.05 s simulated,
   after a warm-up that also triggers compilation) and the NumPy reference over three short
   windows taken at the start, middle and end of that run, each started from the numba state
-  there (the trajectories are compared: the NumPy code follows the numba iteration path).
+  there (the trajectories are compared: the NumPy code follows the numba iteration path); numba
+  is timed on those window steps too, which gives the like-for-like ("same steps") speed-up.
   Newmark iterations per step and ball residual (Newton) evaluations per ball per force
   evaluation are read from the integrator's diagnostic counters (``rotor.S_N_EVAL``,
   ``ball.B_NITER``) over the timed numba run; with a package version without them, from the
@@ -269,6 +270,10 @@ def bench_dt(dt_us: float, cfg: dict) -> dict:
         "numpy_real_time_factor": dt / (numpy_us_step * 1e-6),
         "numpy_us_per_force_eval_in_step": numpy_wall / c["force_evals"] * 1e6,
         "speedup_numba_over_numpy_per_step": numpy_us_step / numba_us_step,
+        # like for like: numba timed on the very steps the NumPy windows computed (same states,
+        # same force evaluations); the ratio above divides by the whole numba run, whose work
+        # per step can differ from the windows' (e.g. a transient needing more iterations)
+        "speedup_numba_over_numpy_same_steps": numpy_wall / numba_window_wall,
         "newmark_iters_per_step": evals_per_step,
         "ball_residuals_per_ball_per_eval": residuals_per_ball,
         "counts_from": count_source,
@@ -316,12 +321,14 @@ def print_table(r: dict) -> None:
     cols = [("dt", "us", "{:.0f}"),
             ("numba", "us/step", "{:.2f}"), ("numba", "RT factor", "{:.4f}"), ("numba", "us/eval", "{:.2f}"),
             ("NumPy", "us/step", "{:.0f}"), ("NumPy", "RT factor", "{:.5f}"), ("NumPy", "us/eval", "{:.0f}"),
-            ("speed-up", "per step", "{:.0f}x"), ("Newmark", "it/step", "{:.2f}"),
+            ("speed-up", "per step", "{:.0f}x"), ("speed-up", "same steps", "{:.0f}x"),
+            ("Newmark", "it/step", "{:.2f}"),
             ("Newton", "it/ball", "{:.2f}"), ("Newton", "passes", "{:.2f}"),
             ("numba us", "/residual", "{:.3f}"), ("traj", "rel diff", "{:.1e}")]
     keys = ["dt_us", "numba_us_per_step", "numba_real_time_factor", "numba_us_per_force_eval_in_step",
             "numpy_us_per_step", "numpy_real_time_factor", "numpy_us_per_force_eval_in_step",
-            "speedup_numba_over_numpy_per_step", "newmark_iters_per_step",
+            "speedup_numba_over_numpy_per_step", "speedup_numba_over_numpy_same_steps",
+            "newmark_iters_per_step",
             "ball_residuals_per_ball_per_eval", "numpy_newton_passes_per_eval",
             "numba_us_per_ball_residual", "max_rel_diff_numpy_vs_numba_trajectory"]
     rows = [[fmt.format(d[k]) for (_, _, fmt), k in zip(cols, keys)] for d in r["newmark"]]
@@ -334,6 +341,8 @@ def print_table(r: dict) -> None:
     d0 = r["newmark"][0]
     print()
     print("RT factor: simulated seconds per wall second. us/eval: step time / force evaluations per step.")
+    print("speed-up per step: NumPy us/step (windows) / numba us/step (whole timed run); same steps: NumPy")
+    print("time / numba time on the same window steps from the same states (like for like).")
     print("Newmark it/step: fixed-point iterations (= bearing-force evaluations) per step; Newton it/ball:")
     print(f"ball residual evaluations per ball per force evaluation (from: {r['newmark'][0]['counts_from']});")
     print("numba us/residual: numba step time / residual evaluations per step. NumPy: three windows at the")

@@ -22,7 +22,7 @@ from bearing_gym.physics.layout import I_DT, N_PRM
 from bearing_gym.physics.rotor import N_REC, N_SCAL
 
 from .actuator import PreloadActuator
-from .kernel import step_batch
+from .kernel import step_batch, step_batch_serial
 from .scenario import Scenario
 
 MAX_RACE_TERMS = 4
@@ -115,7 +115,8 @@ class PreloadBatch:
 
     def step(self, setpoints: np.ndarray, active: np.ndarray) -> None:
         self.env_state[active, 1] = setpoints[active]
-        step_batch(active, self.prm, self.race_wav, self.n_race, self.ball_wav, self.n_ball,
+        kernel = step_batch if self.n > 1 else step_batch_serial
+        kernel(active, self.prm, self.race_wav, self.n_race, self.ball_wav, self.n_ball,
                    self.ball_phase, self.ball_size, self.X, self.V, self.A, self.scal, self.psi_b,
                    self.ball_v, self.ball_out, self.env_state, self.sched, self.act, self.n_sub,
                    self.steps_per_sub, self.rec, self.rows, self.status, self.feats)

@@ -76,3 +76,19 @@ def step_batch(active, prm, race_wav, n_race, ball_wav, n_ball, ball_phase, ball
                                 schedule[b], act, n_sub, steps_per_sub, rec[b], feats[b])
             status_out[b] = st
             rows_out[b] = rows
+
+
+@njit(cache=True)
+def step_batch_serial(active, prm, race_wav, n_race, ball_wav, n_ball, ball_phase, ball_size, X, V,
+                      A, scal, psi_b, ball_v, ball_out, env_state, schedule, act, n_sub,
+                      steps_per_sub, rec, rows_out, status_out, feats):
+    """:func:`step_batch` without threads (same ``step_one`` per env): for a batch of one, where
+    a thread pool only costs time when other processes share the cores."""
+    for b in range(X.shape[0]):
+        if active[b]:
+            st, rows = step_one(prm[b], race_wav[b, :n_race[b]], ball_wav[b, :n_ball[b]],
+                                ball_phase[b, :, :n_ball[b]], ball_size[b], X[b], V[b], A[b],
+                                scal[b], psi_b[b], ball_v[b], ball_out[b], env_state[b],
+                                schedule[b], act, n_sub, steps_per_sub, rec[b], feats[b])
+            status_out[b] = st
+            rows_out[b] = rows
