@@ -1014,15 +1014,10 @@ def _truthy(v: Any) -> bool:
 
 def _operating_columns(params) -> dict:
     """The operating-point columns of a sweep row (sweeps.COLUMNS) other than the preload."""
-    g = params.geometry
-    coeffs = params.damping.coefficients
-    return dict(shaft_speed_rpm=params.shaft_speed_rpm,
-                radial_load_x_n=params.loads.radial_load_x_n,
-                radial_load_y_n=params.loads.radial_load_y_n,
-                clearance_m=g.clearance_inner_m if g.clearance_inner_m == g.clearance_outer_m
-                else math.nan,
-                damping_ratio=params.damping.damping_ratio if coeffs is None else math.nan,
-                eccentricity_m=params.rotor.eccentricity_m)
+    from bearing_gym.analysis.sweeps import _operating_point
+    cols = _operating_point(params)
+    cols.pop("axial_preload_n")
+    return cols
 
 
 def _matches(stored: list[dict], params, preloads: Sequence[float] | None) -> bool:
