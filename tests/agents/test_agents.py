@@ -104,3 +104,33 @@ def test_smoke_training_saves_reloads_and_evaluates(algo, tmp_path):
                      "--episode-steps", "16", "--eval-episodes", "0", "--eval-freq", "64",
                      "--checkpoint-freq", "64", "--no-progress"])
     assert rc == 0 and json.loads((out / "config.json").read_text())["num_timesteps"] > cfg["num_timesteps"]
+
+
+def _result(name, returns, qp=None):
+    from agents.evaluate import EvalResult
+    from bearing_gym.envs.reward import REWARD_TERMS
+    r = np.asarray(returns, dtype=float)
+    terms = {k: r / len(REWARD_TERMS) for k in REWARD_TERMS}
+    q = np.zeros_like(r) if qp is None else np.asarray(qp, dtype=float)
+    return EvalResult(name, r, terms, q, np.full_like(r, 1000.0))
+
+
+def test_hindsight_constant_takes_the_best_candidate_of_each_scenario():
+    from agents.evaluate import hindsight_constant
+    a = _result("constant 800 N", [-10.0, -50.0, -30.0], qp=[0.0, 0.9, 0.1])
+    b = _result("constant 1400 N", [-20.0, -25.0, -40.0], qp=[0.0, 0.0, 0.0])
+    h = hindsight_constant([a, b])
+    np.testing.assert_array_equal(h.returns, [-10.0, -25.0, -30.0])
+    np.testing.assert_array_equal(h.qp_fraction, [0.0, 0.0, 0.1])
+    # the terms come from the chosen candidate and still add up to its return
+    np.testing.assert_allclose(sum(h.terms.values()), h.returns)
+
+
+def test_paired_difference_matches_a_hand_computed_t_interval():
+    from agents.evaluate import paired_difference
+    a = _result("a", [-10.0, -20.0, -33.0, -41.0])
+    b = _result("b", [-12.0, -25.0, -34.0, -45.0])
+    m, lo, hi = paired_difference(a, b)
+    d = np.array([2.0, 5.0, 1.0, 4.0])
+    half = 3.182446305284263 * d.std(ddof=1) / 2.0      # t(0.975, 3) from tables
+    assert m == pytest.approx(3.0) and lo == pytest.approx(3.0 - half) and hi == pytest.approx(3.0 + half)
