@@ -9,6 +9,10 @@ Subcommands (``bearing-gym COMMAND --help`` lists every option with its unit and
 * ``floquet``      Floquet multipliers of the settled response (finite differences);
 * ``sweep``        stability map over preloads x speeds x radial loads x clearances, written
                    to a CSV file; a rerun with the same ``--out`` reuses the finished points;
+                   tasks run on a local process pool or on Ray (``--backend ray --address``);
+* ``watch``        play a trained policy (``--model DIR`` of train.py) or a scripted baseline
+                   (``--policy constant:1000``) in BearingPreload-v0 with ``render_mode="human"``
+                   (a live window, or PNG frames on a headless machine) and print each step;
 * ``reproduce``    the reproduction of Bai & Xu (2006) (``python -m bearing_gym.reproduce``;
                    its options are passed through).
 
@@ -25,6 +29,7 @@ import argparse
 import concurrent.futures as cf
 import contextlib
 import csv
+import importlib.util
 import json
 import math
 import os
@@ -35,7 +40,7 @@ from pathlib import Path
 from typing import Any, Callable, Sequence
 
 PROG = "bearing-gym"
-COMMANDS = ("simulate", "equilibrium", "floquet", "sweep", "reproduce")
+COMMANDS = ("simulate", "equilibrium", "floquet", "sweep", "watch", "reproduce")
 
 __all__ = ["main", "CLIError"]
 
@@ -307,7 +312,8 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.Argument
                                    "clearance and damping ratio. Rows are appended to --out as "
                                    "points finish; a rerun with the same --out reuses the points "
                                    "already in it (same label, mode, preloads and operating "
-                                   "point) and computes only the others.")
+                                   "point) and computes only the others; a rerun with other "
+                                   "durations, criteria, --dt-us or --race-control is refused.")
     _operating_point(p, d, preload=False)
     g = p.add_argument_group("grid")
     g.add_argument("--preloads", type=_number, nargs="+", metavar="N", default=None,
@@ -342,7 +348,20 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.Argument
     g.add_argument("--no-floquet", action="store_true",
                    help="skip the Floquet multipliers (faster; stability from the index only)")
     g.add_argument("--workers", type=_integer, default=min(2, os.cpu_count() or 1), metavar="N",
-                   help="parallel worker processes (>= 1; default %(default)d)")
+                   help="parallel worker processes of the local backend, or CPUs of the local "
+                        "Ray instance of --backend ray without --address (>= 1; default "
+                        "%(default)d)")
+    g.add_argument("--backend", choices=("local", "ray"), default="local",
+                   help="where the tasks run: local = a pool of --workers processes on this "
+                        "machine; ray = Ray tasks, on a new local Ray instance or on the cluster "
+                        "at --address, one CPU per chain or cold start (needs pip install "
+                        "'bearing-gym[ray]'); the rows are the same (default %(default)s)")
+    g.add_argument("--address", default=None, metavar="ADDR",
+                   help="with --backend ray: the Ray cluster: 'auto' (the cluster this node "
+                        "joined with 'ray start', or $RAY_ADDRESS), HOST:6379, or "
+                        "ray://HOST:10001 (Ray Client, from outside the cluster); every node "
+                        "needs the same bearing-gym install (default: start a local Ray "
+                        "instance with --workers CPUs, stopped at the end)")
     g = p.add_argument_group("output")
     g.add_argument("--out", default="stability_map.csv", metavar="CSV",
                    help="CSV file of the points (columns of sweeps.COLUMNS; lengths in m); "
@@ -351,6 +370,41 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.Argument
                    help="also save a stability-map (or preload-sweep) figure to PNG")
     _common(p)
     subs["sweep"] = p
+
+    p = sub.add_parser("watch", help="play a trained or scripted policy in the env, live",
+                       description="Play a policy in BearingPreload-v0 with render_mode='human': "
+                                   "a matplotlib window showing the orbit, the Poincare section "
+                                   "and the preload, updated every control interval (20 ms); on "
+                                   "a machine without a display the frames are written as PNG "
+                                   "files instead (--frames). Prints one line per step: t, "
+                                   "preload, set-point, quasi-periodicity index, reward.")
+    g = p.add_argument_group("policy (one of)")
+    g.add_argument("--model", metavar="DIR", default=None,
+                   help="directory written by train.py (model.zip, config.json and "
+                        "vec_normalize.pkl, whose statistics normalise the observations)")
+    g.add_argument("--policy", metavar="NAME", default=None,
+                   help="scripted baseline: constant:N (fixed set-point, N in 300-2000), "
+                        "feedback (raise on quasi-periodic vibration, lower slowly), "
+                        "schedule[:MARGIN] (speed-scheduled table, + MARGIN N, default 100), "
+                        "oracle[:MARGIN] (true operating point + stability map)")
+    g = p.add_argument_group("episodes")
+    g.add_argument("--episodes", type=_integer, default=1, metavar="N",
+                   help="episodes to play (1-1000; default %(default)d)")
+    g.add_argument("--steps", type=_integer, default=250, metavar="N",
+                   help="control intervals (20 ms) per episode (1-100000; default %(default)d "
+                        "= 5 s)")
+    g.add_argument("--seed", type=_integer, default=0, metavar="S",
+                   help="seed of the first episode; episode k uses S + k (>= 0; default "
+                        "%(default)d)")
+    g.add_argument("--scenario", choices=("randomized", "paper"), default="randomized",
+                   help="operating conditions: randomized (speed, radial load, clearance, "
+                        "waviness drawn per episode) or paper (20000 rpm, c = 4 um; default "
+                        "%(default)s)")
+    g.add_argument("--frames", metavar="DIR", default=None,
+                   help="also save every frame as DIR/frame_NNNNN.png (default without a "
+                        "display: only the latest frame, in <temp dir>/bearing_gym/latest.png)")
+    _common(p)
+    subs["watch"] = p
 
     p = sub.add_parser("reproduce", add_help=False, allow_abbrev=False,
                        help="reproduce Bai & Xu (2006) (options of python -m bearing_gym.reproduce)",
@@ -1035,15 +1089,85 @@ def _matches(stored: list[dict], params, preloads: Sequence[float] | None) -> bo
     return True
 
 
+# settings of a sweep written into every computed row (column -> option); a rerun whose
+# settings differ from the rows already in the file is refused (cold starts do not use the
+# continuation-only ones)
+_RUN_COLUMNS = {"settle_s": "--settle-s", "cold_settle_s": "--cold-settle-s",
+                "measure_s": "--measure-s", "qpi_threshold": "--qpi-threshold",
+                "floquet": "--no-floquet", "refine_step_n": "--refine-step", "dt_s": "--dt-us",
+                "race_control": "--race-control"}
+_CONTINUATION_ONLY = ("settle_s", "refine_step_n")
+
+
+def _run_columns(settings, params) -> dict:
+    return dict(settle_s=settings.settle_s, cold_settle_s=settings.cold_settle_s,
+                measure_s=settings.measure_s, qpi_threshold=settings.qpi_threshold,
+                floquet=settings.floquet,
+                refine_step_n="none" if settings.refine_step_n is None else settings.refine_step_n,
+                dt_s=params.integrator.dt_s, race_control=params.race_control)
+
+
+def _setting_text(col: str, value: Any) -> str:
+    if col == "floquet":
+        return "Floquet multipliers" if _truthy(value) else "--no-floquet"
+    if col == "refine_step_n" and value == "none":
+        return "no --refine-step"
+    if col == "dt_s":
+        return f"--dt-us {float(value) * 1e6:g}"
+    return f"{_RUN_COLUMNS[col]} {value:g}" if isinstance(value, float) else f"{_RUN_COLUMNS[col]} {value}"
+
+
+def _check_run_columns(existing: Sequence[dict], run: dict, path: Path) -> None:
+    """CLIError naming the option if a row of the file was computed with other settings
+    (rows written before the settings were recorded have empty cells and are not checked)."""
+    for r in existing:
+        if r.get("measure_s") in (None, ""):
+            continue
+        for col, opt in _RUN_COLUMNS.items():
+            if r.get("mode") == "cold" and col in _CONTINUATION_ONLY:
+                continue
+            if not _same(r.get(col), run[col]):
+                raise CLIError(f"{opt}: {path} holds points computed with "
+                               f"{_setting_text(col, r.get(col))}, this run has "
+                               f"{_setting_text(col, run[col])}; rerun with the same value, or "
+                               "choose another --out (or delete the file) to start afresh")
+
+
+def _sweep_pool(args, n_workers: int, quiet: bool) -> Callable[[], Any]:
+    """A function making the executor of the tasks to compute (called only if there is one):
+    a process pool (one worker: this process) or a RayExecutor."""
+    if args.backend == "ray":
+        def ray_pool():
+            import logging
+
+            from bearing_gym.analysis.ray_backend import RayExecutor
+            try:
+                return RayExecutor(address=args.address, num_cpus=n_workers,
+                                   logging_level=logging.ERROR if quiet else logging.WARNING)
+            except Exception as err:  # noqa: BLE001 - ray raises several kinds
+                if args.address is not None:
+                    raise CLIError(f"--address: cannot connect to the Ray cluster at "
+                                   f"{args.address}: {_one_line(err)}") from None
+                raise _RunError(f"could not start a local Ray instance: {_one_line(err)}") from None
+        return ray_pool
+
+    def local_pool():
+        from bearing_gym.analysis.sweeps import SerialExecutor
+
+        return SerialExecutor() if n_workers <= 1 else cf.ProcessPoolExecutor(max_workers=n_workers)
+    return local_pool
+
+
 class _ResumingExecutor:
     """concurrent.futures-style executor for stability_map: a task whose result is already in
-    the CSV returns it at once; the others run on a process pool (or in this process) and
-    their rows are appended to the CSV as soon as they finish."""
+    the CSV returns it at once; the others run on the executor made by ``make_pool`` (a
+    process pool, this process or Ray) and their rows, with the ``run`` columns, are appended
+    to the CSV as soon as they finish."""
 
-    def __init__(self, workers: int, stored: dict[tuple, list[dict]], path: Path,
-                 fieldnames: list[str], preloads: Sequence[float]):
-        self.workers, self.stored, self.path = workers, stored, path
-        self.fieldnames, self.preloads = fieldnames, list(preloads)
+    def __init__(self, make_pool: Callable[[], Any], stored: dict[tuple, list[dict]], path: Path,
+                 fieldnames: list[str], preloads: Sequence[float], run: dict):
+        self.make_pool, self.stored, self.path = make_pool, stored, path
+        self.fieldnames, self.preloads, self.run = fieldnames, list(preloads), run
         self.reused: set[tuple] = set()
         self.submitted: set[tuple] = set()
         self._pool: Any = None
@@ -1067,10 +1191,7 @@ class _ResumingExecutor:
             fut.set_result([dict(r) for r in stored] if key[0] == "continuation" else dict(stored[0]))
             return fut
         if self._pool is None:
-            from bearing_gym.analysis.sweeps import SerialExecutor
-
-            self._pool = (SerialExecutor() if self.workers <= 1
-                          else cf.ProcessPoolExecutor(max_workers=self.workers))
+            self._pool = self.make_pool()
         fut = self._pool.submit(fn, *args)
         fut.add_done_callback(self._append)
         return fut
@@ -1089,7 +1210,7 @@ class _ResumingExecutor:
             with self._lock, open(self.path, "a", newline="") as fh:
                 w = csv.DictWriter(fh, fieldnames=self.fieldnames, restval="", extrasaction="ignore")
                 for r in rows:
-                    w.writerow({k: _fmt_cell(v) for k, v in r.items()})
+                    w.writerow({k: _fmt_cell(v) for k, v in {**self.run, **r}.items()})
         except OSError as err:
             self.write_error = err
 
@@ -1130,6 +1251,15 @@ def cmd_sweep(args, say: _Out) -> int:
     _check("--qpi-threshold", args.qpi_threshold, 0.0, 2.0, low_open=True)
     if isinstance(args.workers, bool) or not 1 <= args.workers <= 1024:
         raise CLIError(f"--workers: must be an integer in [1, 1024], got {args.workers}")
+    if args.backend == "ray":
+        from bearing_gym.analysis.ray_backend import INSTALL_HINT
+        if importlib.util.find_spec("ray") is None:
+            raise CLIError(f"--backend: ray is not installed; {INSTALL_HINT}")
+        if args.address is not None and not str(args.address).strip():
+            raise CLIError("--address: must not be empty (e.g. auto, HOST:6379 or "
+                           "ray://HOST:10001; omit it for a local Ray instance)")
+    elif args.address is not None:
+        raise CLIError("--address: only used with --backend ray")
     speeds = lists.get("rpms", [base.shaft_speed_rpm])
     if min(speeds) > 0:
         longest = 60.0 / min(speeds)
@@ -1149,7 +1279,13 @@ def cmd_sweep(args, say: _Out) -> int:
         if existing and "label" not in existing[0]:
             raise CLIError(f"--out: {path} is not a sweep CSV (no 'label' column); choose "
                            "another file")
-    fieldnames = list(COLUMNS) + sorted({k for r in existing for k in r} - set(COLUMNS))
+    run = _run_columns(settings, base)
+    _check_run_columns(existing, run, path)
+    for r in existing:                       # rows written before the settings were recorded
+        for col in _RUN_COLUMNS:
+            r.setdefault(col, "")
+    fieldnames = list(COLUMNS) + sorted(({k for r in existing for k in r} | set(run))
+                                        - set(COLUMNS))
     try:
         path.parent.mkdir(parents=True, exist_ok=True)
         # normalise the file (header, formatting) so that finished rows can be appended
@@ -1165,7 +1301,8 @@ def cmd_sweep(args, say: _Out) -> int:
     n_tasks = n_combo if args.mode == "continuation" else n_combo * len(args.preloads)
     say(f"bearing-gym sweep ({args.mode}): {len(args.preloads)} preloads x {n_combo} "
         f"combination(s) = {n_tasks} task(s); base {_op_text(base)}")
-    ex = _ResumingExecutor(min(args.workers, n_tasks), stored, path, fieldnames, args.preloads)
+    ex = _ResumingExecutor(_sweep_pool(args, min(args.workers, n_tasks), say.quiet), stored,
+                           path, fieldnames, args.preloads, run)
     try:
         rows = sweeps.stability_map(
             base, args.preloads, shaft_speeds_rpm=lists.get("rpms"),
@@ -1174,7 +1311,11 @@ def cmd_sweep(args, say: _Out) -> int:
             else None,
             damping_ratios=lists.get("damping_ratios"), mode=args.mode, settings=settings,
             executor=ex, progress=not say.quiet)
+    except (CLIError, _RunError):
+        raise
     except Exception as err:  # noqa: BLE001 - a failed task stops the map; finished rows stay
+        cause = getattr(err, "cause", None)      # a Ray task's error: the exception it wraps
+        err = cause if isinstance(cause, Exception) else err
         raise _RunError(f"sweep stopped: {type(err).__name__}: {_one_line(err)}; the finished "
                         f"points are in {path}, rerun the same command to resume") from None
     finally:
@@ -1183,6 +1324,7 @@ def cmd_sweep(args, say: _Out) -> int:
         raise _RunError(f"could not append to {path}: {ex.write_error}")
     # final file: rows of other grids kept, this grid's rows in grid order
     other = [r for r in existing if not _in(r, ex.submitted)]
+    rows = [{**run, **r} for r in rows]      # reused rows keep their own (possibly empty) cells
     sweeps.save_csv(other + rows, path)
     n_reused = len(ex.reused)
     say(f"{n_tasks - n_reused} task(s) computed, {n_reused} reused from {path}; "
@@ -1232,6 +1374,136 @@ def _sweep_plot(rows: list[dict], lists: dict, path: Path, mode: str) -> None:
 
 
 # ---------------------------------------------------------------------------------------------
+# watch
+# ---------------------------------------------------------------------------------------------
+_POLICY_HELP = "constant:N, feedback, schedule[:MARGIN] or oracle[:MARGIN]"
+
+
+def _watch_policy(args):
+    """The policy of --model or --policy (agents/ is imported here only: it ships with the
+    package but sits above bearing_gym in the layering)."""
+    if (args.model is None) == (args.policy is None):
+        raise CLIError("--model/--policy: give exactly one (a train.py output directory, or a "
+                       f"scripted policy: {_POLICY_HELP})")
+    if args.model is not None:
+        d = Path(args.model)
+        if not d.is_dir():
+            raise CLIError(f"--model: no such directory: {d}")
+        for name in ("model.zip", "config.json"):
+            if not (d / name).is_file():
+                raise CLIError(f"--model: {d} has no {name} (expected a directory written by "
+                               "train.py)")
+        from agents.evaluate import load_trained
+        try:
+            return load_trained(d)
+        except Exception as err:  # noqa: BLE001 - a broken zip, an unknown algo, ...
+            raise CLIError(f"--model: cannot load {d}: {type(err).__name__}: "
+                           f"{_one_line(err)}") from None
+    from agents.policies import ConstantPreload, FeedbackRule, OraclePreload, SpeedScheduledPreload
+
+    name, _, value = str(args.policy).strip().partition(":")
+    name = name.lower()
+    if name == "feedback" and not value:
+        return FeedbackRule()
+    if name == "constant" or name in ("schedule", "oracle"):
+        if name == "constant" and not value:
+            raise CLIError("--policy: constant needs a preload, e.g. constant:1000 (N)")
+        try:
+            number = float(value) if value else 100.0
+        except ValueError:
+            raise CLIError(f"--policy: not a number after '{name}:': {value!r}") from None
+        if name == "constant":
+            from bearing_gym.envs import PreloadActuator
+            a = PreloadActuator()
+            if not (math.isfinite(number) and a.min_preload_n <= number <= a.max_preload_n):
+                raise CLIError(f"--policy: the constant preload must be in [{a.min_preload_n:g}, "
+                               f"{a.max_preload_n:g}] N, got {number:g}")
+            return ConstantPreload(number)
+        if not (math.isfinite(number) and -2000 <= number <= 2000):
+            raise CLIError(f"--policy: the margin of {name} must be in [-2000, 2000] N, got "
+                           f"{number:g}")
+        from agents.stability_table import StabilityTable
+        try:
+            table = StabilityTable.load()
+        except FileNotFoundError as err:
+            raise CLIError(f"--policy: {name} needs the stability table: {_one_line(err)}") from None
+        cls = SpeedScheduledPreload if name == "schedule" else OraclePreload
+        return cls(table, margin_n=number)
+    raise CLIError(f"--policy: unknown policy {args.policy!r} (use {_POLICY_HELP})")
+
+
+def cmd_watch(args, say: _Out) -> int:
+    import warnings
+
+    import gymnasium as gym
+    import numpy as np
+
+    import bearing_gym  # noqa: F401 - registers BearingPreload-v0
+    from bearing_gym.envs.bearing_preload import _latest_path
+
+    for opt, value, low, high in (("--episodes", args.episodes, 1, 1000),
+                                  ("--steps", args.steps, 1, 100000),
+                                  ("--seed", args.seed, 0, 2**32 - 1)):
+        if not low <= value <= high:
+            raise CLIError(f"{opt}: must be an integer in [{low}, {high}], got {value}")
+    if args.frames is not None and Path(args.frames).exists() and not Path(args.frames).is_dir():
+        raise CLIError(f"--frames: {args.frames} is a file; give a directory")
+    policy = _watch_policy(args)
+    oracle = type(policy).__name__ == "OraclePreload"
+    env = gym.make("BearingPreload-v0", scenario=args.scenario, render_mode="human",
+                   render_dir=args.frames, max_episode_steps=args.steps, episode_steps=args.steps)
+    base = env.unwrapped
+    say(f"bearing-gym watch: {policy.name} on BearingPreload-v0 (scenario {args.scenario}, "
+        f"{args.episodes} episode(s) of {args.steps} steps of {base.control_dt_s * 1e3:g} ms)")
+    try:
+        for ep in range(args.episodes):
+            with warnings.catch_warnings():      # the headless note is printed below instead
+                warnings.filterwarnings("ignore", message=".*render_mode='human'")
+                obs, info = env.reset(seed=args.seed + ep)
+            if ep == 0 and base._window_state == "none":
+                say("no display (or no interactive matplotlib backend): "
+                    + (f"frames go to {args.frames}" if args.frames else
+                       f"the latest frame goes to {_latest_path()} (--frames DIR keeps all)"))
+            sc = base.scenario
+            speed = (f"{sc.speed_start_rpm:.0f}" if sc.speed_start_rpm == sc.speed_end_rpm
+                     else f"{sc.speed_start_rpm:.0f} -> {sc.speed_end_rpm:.0f}")
+            load = (f"{sc.radial_load_before_n:.0f}" if sc.radial_load_before_n == sc.radial_load_after_n
+                    else f"{sc.radial_load_before_n:.0f} -> {sc.radial_load_after_n:.0f}")
+            say(f"episode {ep} (seed {args.seed + ep}): {speed} rpm, radial load {load} N, "
+                f"clearance {sc.clearance_m * 1e6:.1f} um, initial preload "
+                f"{info['preload_n']:.0f} N")
+            say(f"{'ep':>3} {'step':>5} {'t (s)':>7} {'preload (N)':>12} {'set-point (N)':>14} "
+                f"{'qpi':>7} {'reward':>9}")
+            state, start, ret, n, qp, preload_sum = None, True, 0.0, 0, 0, 0.0
+            reason = ""
+            while True:
+                if oracle:
+                    b = base._batch
+                    policy.set_conditions(b.omega()[:1] * 30.0 / math.pi, b.radial_load_n()[:1],
+                                          np.array([sc.clearance_m]))
+                act, state = policy.predict(obs[None], state=state,
+                                            episode_start=np.array([start]), deterministic=True)
+                start = False
+                action = np.clip(np.asarray(act, dtype=np.float32).reshape(1), -1.0, 1.0)
+                obs, reward, term, trunc, info = env.step(action)
+                n += 1
+                ret += reward
+                qp += info["qpi"] > 0.3
+                preload_sum += info["preload_n"]
+                say(f"{ep:>3d} {n:>5d} {info['t']:>7.3f} {info['preload_n']:>12.1f} "
+                    f"{info['setpoint_n']:>14.1f} {info['qpi']:>7.3f} {reward:>9.3f}")
+                if term or trunc:
+                    reason = f"; terminated: {info['termination_reason']}" if term else ""
+                    break
+            say(f"episode {ep}: return {ret:.3f} over {n} steps, mean preload "
+                f"{preload_sum / n:.0f} N, quasi-periodic (index > 0.3) {100 * qp / n:.0f} % of "
+                f"the time{reason}")
+    finally:
+        env.close()
+    return 0
+
+
+# ---------------------------------------------------------------------------------------------
 # reproduce
 # ---------------------------------------------------------------------------------------------
 def cmd_reproduce(args, extras: list[str], cfg: dict, say: _Out) -> int:
@@ -1266,7 +1538,7 @@ def _run(argv: list[str]) -> int:
     if args.command == "reproduce":
         return cmd_reproduce(args, extras, cfg, say)
     return {"simulate": cmd_simulate, "equilibrium": cmd_equilibrium, "floquet": cmd_floquet,
-            "sweep": cmd_sweep}[args.command](args, say)
+            "sweep": cmd_sweep, "watch": cmd_watch}[args.command](args, say)
 
 
 def main(argv: Sequence[str] | None = None) -> int:

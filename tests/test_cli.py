@@ -6,6 +6,7 @@ import functools
 import json
 import math
 import os
+import re
 import subprocess
 import sys
 
@@ -126,6 +127,35 @@ def test_sweep_writes_csv_and_resumes(tmp_path, capsys, monkeypatch):
     assert len(_rows(out)) == 6 and (tmp_path / "map.png").exists()
 
 
+def test_sweep_refuses_to_resume_with_other_settings(tmp_path, capsys):
+    out = tmp_path / "map.csv"
+    argv = ["sweep", "--preloads", "800", *TINY_SWEEP, "--out", str(out), "-q"]
+    assert cli.main(argv) == 0
+    first = _rows(out)
+    assert first[0]["settle_s"] == "0.005" and first[0]["dt_s"] == "1e-05"
+    assert first[0]["floquet"] == "False" and first[0]["refine_step_n"] == "none"
+    for extra, names in ((["--settle-s", "0.01"], ["--settle-s 0.005", "--settle-s 0.01"]),
+                         (["--dt-us", "5"], ["--dt-us 10", "--dt-us 5"]),
+                         (["--race-control", "inner"], ["--race-control outer"])):
+        assert cli.main(argv + extra) == 2
+        err = _error(capsys)
+        assert err.startswith(f"bearing-gym: error: {extra[0]}: ") and str(out) in err
+        for name in names:
+            assert name in err
+    no_floquet = [a for a in argv if a != "--no-floquet"]
+    assert cli.main(no_floquet) == 2
+    assert "--no-floquet:" in _error(capsys)
+    assert _rows(out) == first                      # a refused run leaves the file alone
+    # rows written before the settings were recorded (no such columns) are still reused
+    with open(out, "w", newline="") as fh:
+        w = csv.DictWriter(fh, fieldnames=list(sweeps.COLUMNS), extrasaction="ignore")
+        w.writeheader()
+        w.writerows(first)
+    assert cli.main(argv[:-1] + ["--settle-s", "0.01"]) == 0
+    assert "0 task(s) computed, 1 reused" in capsys.readouterr().out
+    assert _rows(out)[0]["settle_s"] == "" and _rows(out)[0]["wall_s"] == first[0]["wall_s"]
+
+
 def _error(capsys):
     err = capsys.readouterr().err.strip()
     assert err.count("\n") == 0, err
@@ -146,6 +176,17 @@ def _error(capsys):
     (["sweep", "--preloads", "800", "--rpms", "20000", "-100"], ["--rpms", "[0, 200000]"]),
     (["sweep", "--preloads", "800", "--measure-s", "0"], ["--measure-s"]),
     (["sweep", "--rpm", "20000"], ["--preloads"]),
+    (["sweep", "--preloads", "800", "--address", "auto"], ["--address", "--backend ray"]),
+    (["sweep", "--preloads", "800", "--backend", "dask"], ["--backend", "'local', 'ray'"]),
+    (["sweep", "--preloads", "800", "--backend", "ray", "--address", " "], ["--address", "empty"]),
+    (["watch"], ["--model/--policy"]),
+    (["watch", "--policy", "feedback", "--model", "runs/x"], ["--model/--policy", "exactly one"]),
+    (["watch", "--policy", "constant:5000"], ["--policy", "[300, 2000] N", "5000"]),
+    (["watch", "--policy", "constant:lots"], ["--policy", "not a number"]),
+    (["watch", "--policy", "dance"], ["--policy", "unknown policy 'dance'"]),
+    (["watch", "--model", "/no/such/dir"], ["--model", "no such directory"]),
+    (["watch", "--policy", "feedback", "--steps", "0"], ["--steps", "[1, 100000]"]),
+    (["watch", "--policy", "feedback", "--scenario", "moon"], ["--scenario", "randomized"]),
 ])
 def test_bad_options_exit_nonzero_with_one_line_naming_the_option(argv, names, tmp_path, capsys):
     assert cli.main(argv + (["--out", str(tmp_path / "x")] if argv[0] == "simulate" else [])) == 2
@@ -169,6 +210,73 @@ def test_bad_config_files(text, suffix, names, tmp_path, capsys):
     err = _error(capsys)
     for name in names:
         assert name in err
+
+
+def test_sweep_backend_ray_without_ray_says_how_to_install(monkeypatch, capsys):
+    import importlib.util
+
+    real = importlib.util.find_spec
+    monkeypatch.setattr(importlib.util, "find_spec",
+                        lambda name, *a, **k: None if name == "ray" else real(name, *a, **k))
+    assert cli.main(["sweep", "--preloads", "800", "--backend", "ray"]) == 2
+    err = _error(capsys)
+    assert "--backend" in err and "pip install 'bearing-gym[ray]'" in err
+
+
+_STEP_LINE = re.compile(r"^\s*(\d+)\s+(\d+)" + r"\s+(-?[\d.]+)" * 5 + r"\s*$")
+
+
+def _steps(text):
+    """The per-step lines of bearing-gym watch: (episode, step, t, preload, set-point, qpi,
+    reward)."""
+    return [tuple(float(v) for v in m.groups()) for m in map(_STEP_LINE.match, text.splitlines())
+            if m]
+
+
+def test_watch_scripted_policy_headless_writes_frames_and_step_lines(tmp_path, capsys):
+    frames = tmp_path / "frames"
+    assert cli.main(["watch", "--policy", "constant:1200", "--scenario", "paper", "--steps", "3",
+                     "--frames", str(frames)]) == 0
+    text = capsys.readouterr().out
+    steps = _steps(text)
+    assert [s[:3] for s in steps] == [(0, 1, 0.02), (0, 2, 0.04), (0, 3, 0.06)]
+    assert all(s[4] == 1200.0 and 1000.0 <= s[3] <= 1200.0 and 0 <= s[5] < 2 and s[6] < 0
+               for s in steps)
+    assert "constant 1200 N" in text and "episode 0: return" in text
+    assert sorted(p.name for p in frames.iterdir()) == [f"frame_{k:05d}.png" for k in range(4)]
+    assert (frames / "frame_00003.png").read_bytes()[:4] == b"\x89PNG"
+    # two episodes, quiet: no output, the frames still come
+    assert cli.main(["watch", "--policy", "feedback", "--episodes", "2", "--steps", "1", "-q",
+                     "--frames", str(tmp_path / "q")]) == 0
+    assert capsys.readouterr().out == ""
+    assert len(list((tmp_path / "q").iterdir())) == 4
+
+
+def test_watch_a_model_directory_of_train_py(tmp_path, capsys, monkeypatch):
+    """An (untrained) PPO model saved the way train.py saves one: model.zip, config.json and
+    the VecNormalize statistics; without --frames the latest frame goes to the temp dir."""
+    import tempfile
+
+    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path / "tmp"))
+    from stable_baselines3 import PPO
+    from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
+
+    from bearing_gym.envs import BearingPreloadEnv
+
+    venv = VecNormalize(DummyVecEnv([lambda: BearingPreloadEnv(scenario="paper")]))
+    venv.obs_rms.mean[:] = 0.5
+    PPO("MlpPolicy", venv, n_steps=8, batch_size=8, seed=0, device="cpu").save(tmp_path / "model.zip")
+    venv.save(tmp_path / "vec_normalize.pkl")
+    (tmp_path / "config.json").write_text(json.dumps({"algo": "ppo"}))
+    assert cli.main(["watch", "--model", str(tmp_path), "--steps", "2", "--seed", "7"]) == 0
+    text = capsys.readouterr().out
+    assert "PPO (trained)" in text and "(seed 7)" in text
+    latest = tmp_path / "tmp" / "bearing_gym" / "latest.png"
+    assert f"latest frame goes to {latest}" in text and latest.is_file()
+    assert [s[:2] for s in _steps(text)] == [(0, 1), (0, 2)]
+    (tmp_path / "config.json").unlink()
+    assert cli.main(["watch", "--model", str(tmp_path)]) == 2
+    assert "config.json" in _error(capsys)
 
 
 def test_help_lists_units(capsys):

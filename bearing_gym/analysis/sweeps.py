@@ -32,7 +32,8 @@ column records ζ (NaN when fixed coefficients are used).
 
 Points run in parallel (one continuation chain or one cold start per task) on a pluggable
 executor with the ``concurrent.futures.Executor`` interface (``submit`` returning an object with
-``result()``); the default is a ``ProcessPoolExecutor`` over the local cores. Results are lists
+``result()``); the default is a ``ProcessPoolExecutor`` over the local cores, and
+:class:`.ray_backend.RayExecutor` runs them on a Ray cluster (several machines). Results are lists
 of dicts with the columns of :data:`COLUMNS`, saved with :func:`save_csv` or :func:`save_npz`.
 """
 

@@ -2,7 +2,9 @@
 
 from __future__ import annotations
 
+import os
 from collections import deque
+from pathlib import Path
 from typing import Any
 
 import gymnasium as gym
@@ -78,7 +80,7 @@ class BearingPreloadEnv(gym.Env):
 
     ``gymnasium.make("BearingPreload-v0", scenario="randomized", control_dt_s=0.02,
     actuator=PreloadActuator(), reward=RewardModel(), observation=ObservationModel(),
-    params=None, episode_steps=250, render_mode=None)``
+    params=None, episode_steps=250, render_mode=None, render_dir=None)``
 
     * ``scenario``: ``"randomized"`` (speed 10,000-25,000 rpm constant or ramped, radial-load step
       0-500 N, clearance 4-30 um, race waviness 0-1 um order 18, unbalance 5-20 um), ``"paper"``
@@ -89,19 +91,36 @@ class BearingPreloadEnv(gym.Env):
       option raises ``ValueError``.
     * ``params``: base :class:`~bearing_gym.params.BearingParams` (bearing, rotor, damping, dt).
     * ``episode_steps``: the horizon used to place speed ramps and load steps in time.
+    * ``render_mode``: ``"rgb_array"``: ``render()`` returns the frame (H x W x 3 uint8);
+      ``"human"``: ``reset()`` and ``step()`` draw the frame themselves (``render()`` returns
+      None), see *Rendering*.
+    * ``render_dir``: with ``render_mode="human"``, also save every frame there as
+      ``frame_00000.png``, ``frame_00001.png``, ... (numbered over the env's life).
+
+    ## Rendering
+
+    A frame has three panels: the x-y orbit of the last control interval, the Poincare section
+    (x, z once per shaft turn, last 2000 points) and the preload and set-point over the last
+    500 intervals; in ``"human"`` mode its title gives t, preload, set-point and the
+    quasi-periodicity index. ``"human"`` opens a matplotlib window when an interactive backend
+    can open one (a display is available, or ``MPLBACKEND`` names one) and updates it after
+    every step, pausing ``1 / metadata["render_fps"]`` s. Without one (a headless machine, the
+    Agg backend) it writes the frames as PNG files instead: to ``render_dir`` if given, else
+    the latest frame to ``<temp dir>/bearing_gym/latest.png`` (overwritten each step; a warning
+    names the path once). Closing the window stops the drawing, not the episode.
 
     ## Version History
 
     * v0: first release.
     """
 
-    metadata = {"render_modes": ["rgb_array"], "render_fps": 10}
+    metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 10}
 
     def __init__(self, scenario: Any = "randomized", control_dt_s: float = 0.02,
                  actuator: PreloadActuator | None = None, reward: RewardModel | None = None,
                  observation: ObservationModel | None = None, params: BearingParams | None = None,
                  episode_steps: int = 250, render_mode: str | None = None,
-                 obs_noise_std: float | None = None):
+                 obs_noise_std: float | None = None, render_dir: str | os.PathLike | None = None):
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode must be None or one of {self.metadata['render_modes']}, got {render_mode!r}")
         configure(self, scenario, control_dt_s, actuator, reward, observation, params,
@@ -109,6 +128,10 @@ class BearingPreloadEnv(gym.Env):
         self.action_space = spaces.Box(-1.0, 1.0, shape=(1,), dtype=np.float32)
         self.observation_space = self.observation_model.space
         self.render_mode = render_mode
+        self.render_dir = None if render_dir is None else Path(render_dir)
+        self._window: Any = None          # the pyplot figure of render_mode="human"
+        self._window_state = "unopened"   # then "open", "closed" (by the user) or "none"
+        self._frames = 0
         self._history: deque = deque(maxlen=500)
         self._poincare: deque = deque(maxlen=2000)
         self._idx = np.array([0])
@@ -127,6 +150,8 @@ class BearingPreloadEnv(gym.Env):
         info = {"preload_n": float(b.preload[0]), "setpoint_n": float(b.setpoint[0]),
                 "shaft_speed_rpm": float(b.omega()[0] * 30.0 / np.pi),
                 "radial_load_n": float(b.radial_load_n()[0]), "t": 0.0}
+        if self.render_mode == "human":
+            self._render_human()
         return obs[0], info
 
     def step(self, action):
@@ -140,6 +165,8 @@ class BearingPreloadEnv(gym.Env):
                                                       self.reward_model, [self.np_random])
         if self.render_mode is not None:
             self._remember()
+        if self.render_mode == "human":
+            self._render_human()
         return obs[0], float(reward[0]), bool(terminated[0]), False, infos[0]
 
     # ------------------------------------------------------------------------------------------
@@ -166,6 +193,13 @@ class BearingPreloadEnv(gym.Env):
 
         fig = Figure(figsize=(9, 3), dpi=80)
         canvas = FigureCanvasAgg(fig)
+        self._draw(fig)
+        canvas.draw()
+        img = np.asarray(canvas.buffer_rgba())[:, :, :3].copy()
+        return img
+
+    def _draw(self, fig) -> None:
+        """The three panels of a frame, drawn on ``fig``."""
         ax1, ax2, ax3 = fig.subplots(1, 3)
         orbit = getattr(self, "_orbit", None)
         if orbit is not None and len(self._history):
@@ -182,6 +216,83 @@ class BearingPreloadEnv(gym.Env):
             ax3.legend(fontsize=7)
         ax3.set(title="preload", xlabel="t (s)", ylabel="N")
         fig.tight_layout()
-        canvas.draw()
-        img = np.asarray(canvas.buffer_rgba())[:, :, :3].copy()
-        return img
+
+    # ------------------------------------------------------------------------------------------
+    def _render_human(self) -> None:
+        """Draw the frame in the window, and/or save it as PNG (see *Rendering*)."""
+        if self._window_state == "unopened":
+            self._window = _open_window()
+            self._window_state = "open" if self._window is not None else "none"
+            if self._window is None and self.render_dir is None:
+                gym.logger.warn(f"render_mode='human': no interactive matplotlib backend (no "
+                                f"display?); writing the latest frame to {_latest_path()} "
+                                "(pass render_dir=... to keep every frame)")
+        title = self._title()
+        if self._window_state == "open":
+            import matplotlib.pyplot as plt
+            if not plt.fignum_exists(self._window.number):       # closed by the user
+                self._window, self._window_state = None, "closed"
+            else:
+                self._window.clf()
+                self._draw(self._window)
+                self._window.suptitle(title, fontsize=8)
+                self._window.tight_layout()
+                self._window.canvas.draw_idle()
+                plt.pause(1.0 / self.metadata["render_fps"])
+        if self.render_dir is None and self._window_state != "none":
+            return
+        from matplotlib.figure import Figure
+
+        fig = Figure(figsize=(9, 3.3), dpi=80)
+        self._draw(fig)
+        fig.suptitle(title, fontsize=8)
+        fig.tight_layout()
+        if self.render_dir is not None:
+            self.render_dir.mkdir(parents=True, exist_ok=True)
+            path = self.render_dir / f"frame_{self._frames:05d}.png"
+        else:
+            path = _latest_path()
+            path.parent.mkdir(parents=True, exist_ok=True)
+        fig.savefig(path)
+        self._frames += 1
+
+    def _title(self) -> str:
+        if not self._history:
+            return f"t = 0 s, preload {float(self._batch.preload[0]):.0f} N (reset)"
+        t, p, sp, q = self._history[-1]
+        return (f"t = {t:.2f} s, preload {p:.0f} N, set-point {sp:.0f} N, "
+                f"quasi-periodicity index {q:.3f}")
+
+    def close(self) -> None:
+        if self._window is not None:
+            import matplotlib.pyplot as plt
+            plt.close(self._window)
+            self._window = None
+        super().close()
+
+
+def _latest_path() -> Path:
+    import tempfile
+    return Path(tempfile.gettempdir()) / "bearing_gym" / "latest.png"
+
+
+def _open_window():
+    """A pyplot figure in an interactive backend, or None if there is none (headless)."""
+    try:
+        import matplotlib
+        import matplotlib.pyplot as plt
+        backend = matplotlib.get_backend().lower()
+        try:
+            from matplotlib.backends import BackendFilter, backend_registry
+            interactive = backend_registry.list_builtin(BackendFilter.INTERACTIVE)
+        except ImportError:                      # matplotlib < 3.9
+            from matplotlib import rcsetup
+            interactive = rcsetup.interactive_bk
+        if backend not in {b.lower() for b in interactive}:
+            return None
+        plt.ion()
+        fig = plt.figure("BearingPreload-v0", figsize=(9, 3.3))
+        plt.show(block=False)
+        return fig
+    except Exception:  # noqa: BLE001 - e.g. a GUI backend named in MPLBACKEND without a display
+        return None

@@ -130,7 +130,7 @@ def test_bad_constructor_arguments():
     with pytest.raises(ValueError, match="control_dt_s"):
         BearingPreloadEnv(control_dt_s=0.0)
     with pytest.raises(ValueError, match="render_mode"):
-        BearingPreloadEnv(render_mode="human")
+        BearingPreloadEnv(render_mode="ansi")
 
 
 def test_integrator_failure_terminates_with_reason_and_finite_observation():
@@ -152,3 +152,35 @@ def test_render_rgb_array():
         env.step(np.array([0.0], dtype=np.float32))
     img = env.render()
     assert img.ndim == 3 and img.shape[2] == 3 and img.dtype == np.uint8 and img.std() > 0
+
+
+def test_render_human_headless_writes_png_frames(tmp_path):
+    env = gym.make("BearingPreload-v0", scenario="paper", render_mode="human",
+                   render_dir=tmp_path / "frames")
+    env.reset(seed=0)
+    assert env.render() is None
+    for _ in range(2):
+        env.step(np.array([0.0], dtype=np.float32))
+    frames = sorted(p.name for p in (tmp_path / "frames").iterdir())
+    assert frames == ["frame_00000.png", "frame_00001.png", "frame_00002.png"]   # reset + 2 steps
+    assert (tmp_path / "frames" / frames[-1]).read_bytes()[:4] == b"\x89PNG"
+    env.close()
+
+
+def test_render_human_updates_a_window_and_stops_when_it_is_closed(monkeypatch):
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+
+    from bearing_gym.envs import bearing_preload
+    fig = plt.figure()                      # stands in for the interactive window
+    monkeypatch.setattr(bearing_preload, "_open_window", lambda: fig)
+    monkeypatch.setattr(plt, "pause", lambda s: None)
+    env = BearingPreloadEnv(scenario="paper", render_mode="human")
+    env.reset(seed=0)
+    env.step(np.array([0.0], dtype=np.float32))
+    assert len(fig.axes) == 3 and "quasi-periodicity index" in fig._suptitle.get_text()
+    plt.close(fig)
+    env.step(np.array([0.0], dtype=np.float32))           # no error, no new window
+    assert env._window is None and env._window_state == "closed"
+    env.close()
