@@ -22,7 +22,8 @@ from pathlib import Path
 def build_parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(description="Train PPO or SAC on BearingPreload-v0 and evaluate it.")
     ap.add_argument("--algo", choices=("ppo", "sac"), default="ppo")
-    ap.add_argument("--timesteps", type=int, default=36000, help="environment steps (control intervals)")
+    ap.add_argument("--timesteps", type=int, default=36000,
+                    help="total environment steps (control intervals); with --resume, the run stops at this total")
     ap.add_argument("--n-envs", type=int, default=2, help="environments stepped together by the batched kernel")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--out", default="runs/ppo", help="output directory")
@@ -99,8 +100,14 @@ def main(argv: list[str] | None = None) -> int:
         CheckpointCallback(save_freq=max(1, args.checkpoint_freq // per_env), save_path=str(ckpt_dir),
                            name_prefix="model", save_vecnormalize=True),
     ])
-    model.learn(total_timesteps=args.timesteps, callback=callbacks, progress_bar=not args.no_progress,
-                reset_num_timesteps=not (args.resume and latest))
+    resumed = bool(args.resume and latest)
+    # SB3 counts total_timesteps on top of num_timesteps when it does not reset them
+    remaining = args.timesteps - model.num_timesteps if resumed else args.timesteps
+    if remaining > 0:
+        model.learn(total_timesteps=remaining, callback=callbacks, progress_bar=not args.no_progress,
+                    reset_num_timesteps=not resumed)
+    else:
+        print(f"{model.num_timesteps} steps already done (--timesteps {args.timesteps}): no training")
     model.save(out / "model.zip")
     env.save(str(out / "vec_normalize.pkl"))
     train_s = time.time() - t0

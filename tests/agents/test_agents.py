@@ -99,11 +99,18 @@ def test_smoke_training_saves_reloads_and_evaluates(algo, tmp_path):
     from agents.evaluate import load_trained
     pol = load_trained(out)
     np.testing.assert_array_equal(pol.obs_rms.mean, vn.obs_rms.mean)
-    # resumable
-    rc = train.main(["--algo", algo, "--timesteps", "64", "--n-envs", "2", "--out", str(out), "--resume",
-                     "--episode-steps", "16", "--eval-episodes", "0", "--eval-freq", "64",
-                     "--checkpoint-freq", "64", "--no-progress"])
-    assert rc == 0 and json.loads((out / "config.json").read_text())["num_timesteps"] > cfg["num_timesteps"]
+    # resumable; --timesteps is the total: a resumed run continues up to it (SB3 stops at the first
+    # rollout boundary at or past it), and one that is already there trains no further
+    def resume(total: int) -> int:
+        rc = train.main(["--algo", algo, "--timesteps", str(total), "--n-envs", "2", "--out", str(out), "--resume",
+                         "--episode-steps", "16", "--eval-episodes", "0", "--eval-freq", "64",
+                         "--checkpoint-freq", "64", "--no-progress"])
+        assert rc == 0
+        return json.loads((out / "config.json").read_text())["num_timesteps"]
+    done = cfg["num_timesteps"]
+    resumed = resume(done + 64)
+    assert resumed >= done + 64
+    assert resume(resumed) == resumed
 
 
 def _result(name, returns, qp=None):
