@@ -1172,6 +1172,8 @@ class _ResumingExecutor:
         self.submitted: set[tuple] = set()
         self._pool: Any = None
         self._lock = threading.Lock()
+        self._appended = threading.Condition()
+        self._pending = 0                     # submitted tasks whose rows are not appended yet
         self.write_error: Exception | None = None
 
     def _key(self, fn: Callable, args: tuple) -> tuple[tuple, Any, Any]:
@@ -1193,10 +1195,28 @@ class _ResumingExecutor:
         if self._pool is None:
             self._pool = self.make_pool()
         fut = self._pool.submit(fn, *args)
+        with self._appended:
+            self._pending += 1
         fut.add_done_callback(self._append)
         return fut
 
+    def wait_for_appends(self) -> None:
+        """Block until every finished task's rows are in the CSV. A future's result is visible
+        to the waiting thread before its done-callbacks have run (they run in the thread that
+        set the result: the pool's or Ray's), so the final rewrite of the file must wait for
+        them or a late append would duplicate rows."""
+        with self._appended:
+            self._appended.wait_for(lambda: self._pending == 0)
+
     def _append(self, fut: cf.Future) -> None:
+        try:
+            self._write_rows(fut)
+        finally:
+            with self._appended:
+                self._pending -= 1
+                self._appended.notify_all()
+
+    def _write_rows(self, fut: cf.Future) -> None:
         if fut.cancelled() or fut.exception() is not None:
             return
         res = fut.result()
@@ -1311,6 +1331,7 @@ def cmd_sweep(args, say: _Out) -> int:
             else None,
             damping_ratios=lists.get("damping_ratios"), mode=args.mode, settings=settings,
             executor=ex, progress=not say.quiet)
+        ex.wait_for_appends()                # every task has finished: only callbacks are left
     except (CLIError, _RunError):
         raise
     except Exception as err:  # noqa: BLE001 - a failed task stops the map; finished rows stay

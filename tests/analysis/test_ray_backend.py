@@ -79,3 +79,37 @@ def test_console_script_starts_and_stops_its_own_ray_instance(tmp_path):
     rows = _csv(out)
     assert [r["axial_preload_n"] for r in rows] == ["800", "700"]
     assert all(r["status"] == "ok" for r in rows)
+
+
+def test_sweep_waits_for_late_appends_before_the_final_write(tmp_path, monkeypatch):
+    """A future's result reaches the main thread before its done-callback (the CSV append) has
+    run in the thread that set it; a slow append must still land before the final rewrite, else
+    its rows appear twice (seen with Ray, whose shutdown does not join those threads). A pool of
+    plain threads that is not joined on shutdown stands in for Ray here."""
+    import concurrent.futures as cf
+    import threading
+    import time
+
+    class UnjoinedThreads:
+        def submit(self, fn, *args):
+            fut = cf.Future()
+            threading.Thread(target=lambda: fut.set_result(fn(*args)), daemon=True).start()
+            return fut
+
+        def shutdown(self, wait=True):
+            pass
+
+    slow = cli._ResumingExecutor._write_rows
+
+    def late(self, fut):
+        time.sleep(0.5)
+        slow(self, fut)
+
+    monkeypatch.setattr(cli._ResumingExecutor, "_write_rows", late)
+    monkeypatch.setattr(cli, "_sweep_pool", lambda *a: UnjoinedThreads)
+    out = tmp_path / "late.csv"
+    assert cli.main(["sweep", *CLI_GRID, "--workers", "2", "--out", str(out)]) == 0
+    time.sleep(1.0)                       # a late append would have landed by now
+    keys = [(r["label"], r["axial_preload_n"]) for r in _csv(out)]
+    assert sorted(keys) == sorted({("20000rpm", "800"), ("20000rpm", "700"),
+                                   ("15000rpm", "800"), ("15000rpm", "700")})
