@@ -214,6 +214,10 @@ class BearingPreloadEnv(gym.Env):
             ax3.plot(h[:, 0], h[:, 1], label="preload")
             ax3.plot(h[:, 0], h[:, 2], "--", label="set-point")
             ax3.legend(fontsize=7)
+            lo, hi = float(h[:, 1:3].min()), float(h[:, 1:3].max())
+            pad = max(50.0, 0.1 * (hi - lo))      # newtons: no 1e-6 N offset axis for a flat trace
+            ax3.set_ylim(lo - pad, hi + pad)
+            ax3.ticklabel_format(axis="y", useOffset=False)
         ax3.set(title="preload", xlabel="t (s)", ylabel="N")
         fig.tight_layout()
 
