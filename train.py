@@ -6,8 +6,12 @@
 
 Writes to --out: model.zip, vec_normalize.pkl (observation/reward statistics, reloaded with
 training=False for evaluation), config.json, checkpoints/ (resumable), tensorboard/ (if
-tensorboard is installed), eval/ (EvalCallback), and evaluation.md/.csv/_traces.png
-(agents.evaluate on held-out seeds).
+tensorboard is installed), eval/ (validation: every --eval-freq steps the policy runs on the
+same --val-episodes scenarios, seeds from --val-seed, distinct from the test seeds; the best
+checkpoint and its VecNormalize statistics are kept there), last_model.zip and
+last_vec_normalize.pkl (the final weights), and evaluation.md/.csv/_traces.png (agents.evaluate
+on held-out seeds). model.zip is the best validation checkpoint (--select best, the default) or
+the final weights (--select last).
 """
 
 from __future__ import annotations
@@ -15,8 +19,12 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import shutil
 import time
 from pathlib import Path
+
+
+TEST_SEED = 100000      # agents.evaluate's default first held-out seed
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -29,7 +37,11 @@ def build_parser() -> argparse.ArgumentParser:
     ap.add_argument("--out", default="runs/ppo", help="output directory")
     ap.add_argument("--episode-steps", type=int, default=100, help="control intervals per training episode")
     ap.add_argument("--eval-episodes", type=int, default=20, help="held-out episodes per policy at the end (0: skip)")
-    ap.add_argument("--eval-freq", type=int, default=6000, help="EvalCallback period in environment steps")
+    ap.add_argument("--eval-freq", type=int, default=12000, help="validation period in environment steps")
+    ap.add_argument("--val-episodes", type=int, default=20, help="validation episodes per evaluation (same scenarios each time)")
+    ap.add_argument("--val-seed", type=int, default=50000, help="seed of the validation scenarios (test seeds start at 100000)")
+    ap.add_argument("--select", choices=("best", "last"), default="best",
+                    help="model.zip = the best validation checkpoint or the final weights")
     ap.add_argument("--checkpoint-freq", type=int, default=6000, help="checkpoint period in environment steps")
     ap.add_argument("--resume", action="store_true", help="continue from the newest checkpoint in --out")
     ap.add_argument("--no-progress", action="store_true", help="no progress bar")
@@ -60,10 +72,18 @@ def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     if args.timesteps < 1 or args.n_envs < 1:
         raise SystemExit("train.py: --timesteps and --n-envs must be >= 1")
+    if args.val_episodes < 1:
+        raise SystemExit("train.py: --val-episodes must be >= 1")
+    n_val_envs = min(10, args.val_episodes)
+    if args.val_seed < TEST_SEED + max(args.eval_episodes, 1) and TEST_SEED < args.val_seed + n_val_envs:
+        raise SystemExit(f"train.py: --val-seed {args.val_seed} overlaps the held-out test seeds "
+                         f"{TEST_SEED}..{TEST_SEED + max(args.eval_episodes, 1) - 1}; pick another")
     import torch
     from stable_baselines3 import PPO, SAC
-    from stable_baselines3.common.callbacks import CallbackList, CheckpointCallback, EvalCallback
+    from stable_baselines3.common.callbacks import CallbackList, CheckpointCallback
     from stable_baselines3.common.vec_env import VecNormalize
+
+    from agents.callbacks import BEST_INFO, BEST_MODEL, BEST_VECNORMALIZE, ValidationCallback
 
     torch.set_num_threads(1)          # the environment kernel uses the cores
     out = Path(args.out)
@@ -72,7 +92,7 @@ def main(argv: list[str] | None = None) -> int:
     t0 = time.time()
 
     env = make_env(args.n_envs, args.seed, args.episode_steps)
-    eval_env = make_env(1, args.seed + 10_000, args.episode_steps)
+    eval_env = make_env(n_val_envs, args.val_seed, args.episode_steps)
     ckpt_dir = out / "checkpoints"
     latest = sorted(ckpt_dir.glob("model_*_steps.zip"), key=lambda p: int(p.stem.split("_")[-2])) if ckpt_dir.exists() else []
     if args.resume and latest:
@@ -95,8 +115,9 @@ def main(argv: list[str] | None = None) -> int:
     eval_env = VecNormalize(eval_env, norm_obs=True, norm_reward=False, training=False)
     per_env = max(1, args.n_envs)
     callbacks = CallbackList([
-        EvalCallback(eval_env, n_eval_episodes=2, eval_freq=max(1, args.eval_freq // per_env),
-                     best_model_save_path=str(out / "eval"), log_path=str(out / "eval"), deterministic=True),
+        ValidationCallback(eval_env, validation_seed=args.val_seed, n_eval_episodes=args.val_episodes,
+                           eval_freq=max(1, args.eval_freq // per_env), best_model_save_path=str(out / "eval"),
+                           log_path=str(out / "eval"), deterministic=True),
         CheckpointCallback(save_freq=max(1, args.checkpoint_freq // per_env), save_path=str(ckpt_dir),
                            name_prefix="model", save_vecnormalize=True),
     ])
@@ -108,15 +129,27 @@ def main(argv: list[str] | None = None) -> int:
                     reset_num_timesteps=not resumed)
     else:
         print(f"{model.num_timesteps} steps already done (--timesteps {args.timesteps}): no training")
-    model.save(out / "model.zip")
-    env.save(str(out / "vec_normalize.pkl"))
+    model.save(out / "last_model.zip")
+    env.save(str(out / "last_vec_normalize.pkl"))
+    best = out / "eval"
+    if args.select == "best" and (best / BEST_MODEL).exists() and (best / BEST_VECNORMALIZE).exists():
+        shutil.copyfile(best / BEST_MODEL, out / "model.zip")
+        shutil.copyfile(best / BEST_VECNORMALIZE, out / "vec_normalize.pkl")
+        info = json.loads((best / BEST_INFO).read_text())
+        selected = dict(selected="best validation checkpoint", selected_timesteps=info["num_timesteps"],
+                        selected_validation_return=info["mean_validation_return"])
+    else:
+        shutil.copyfile(out / "last_model.zip", out / "model.zip")
+        shutil.copyfile(out / "last_vec_normalize.pkl", out / "vec_normalize.pkl")
+        selected = dict(selected="final weights", selected_timesteps=int(model.num_timesteps))
     train_s = time.time() - t0
-    cfg = dict(vars(args), train_wall_s=train_s, num_timesteps=int(model.num_timesteps))
+    cfg = dict(vars(args), train_wall_s=train_s, num_timesteps=int(model.num_timesteps), **selected)
     (out / "config.json").write_text(json.dumps(cfg, indent=2))
-    print(f"trained {model.num_timesteps} steps in {train_s / 60:.1f} min -> {out}")
+    print(f"trained {model.num_timesteps} steps in {train_s / 60:.1f} min -> {out} "
+          f"(model.zip: {selected['selected']}, {selected['selected_timesteps']} steps)")
     if args.eval_episodes > 0:
         from agents.evaluate import evaluate
-        evaluate(out, episodes=args.eval_episodes, episode_steps=args.episode_steps)
+        evaluate(out, episodes=args.eval_episodes, seed=TEST_SEED, episode_steps=args.episode_steps)
         cfg["total_wall_s"] = time.time() - t0
         (out / "config.json").write_text(json.dumps(cfg, indent=2))
         print(f"total wall time {cfg['total_wall_s'] / 60:.1f} min")

@@ -30,7 +30,7 @@ _SETPOINT = FEATURE_NAMES.index("setpoint")
 
 
 class Policy:
-    """SB3-style interface over batched observations (n_envs, 12)."""
+    """SB3-style interface over batched observations (n_envs, 14)."""
 
     name = "policy"
 

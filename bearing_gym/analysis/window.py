@@ -2,7 +2,9 @@
 
 ``window_features`` computes, from the rows ``rec[:rows]`` written by
 :func:`bearing_gym.physics.rotor.integrate`, the peak-to-peak and RMS of x, y, z, the mean and
-peak-to-peak of the cage speed and the quasi-periodicity index of :mod:`.signals`. The index is
+peak-to-peak of the cage speed, the quasi-periodicity index of :mod:`.signals` and the mean
+x, y, z (the static offset a displacement probe reads: it carries the radial load and, through
+the axial play, the clearance). The index is
 taken on the shaft angle rather than on time (Poincare points where the shaft angle has advanced
 by whole turns), which is the same section at constant speed and stays right while the speed
 ramps; ``tests/analysis/test_window.py`` checks it against :func:`.signals.quasi_periodicity_index`.
@@ -26,7 +28,8 @@ F_RMS_Z = 5
 F_CAGE_MEAN = 6
 F_CAGE_PTP = 7
 F_QPI = 8
-N_FEATURES = 9
+F_MEAN_X = 9      # then y, z
+N_FEATURES = 12
 
 
 @njit(cache=True)
@@ -46,6 +49,7 @@ def window_features(rec, rows, out):
         cmean += rec[r, R_CAGE_SPEED]
     for k in range(3):
         mean[k] /= rows
+        out[F_MEAN_X + k] = mean[k]
     cmean /= rows
     var_total = 0.0
     for k in range(3):

@@ -48,11 +48,13 @@ class BearingPreloadEnv(gym.Env):
 
     ## Observation Space
 
-    ``Box(-10, 10, (12,), float32)``: features of the last control interval, see
+    ``Box(-10, 10, (14,), float32)``: features of the last control interval, see
     :mod:`bearing_gym.envs.observation` for the table: peak-to-peak (/100 um) and RMS (/50 um) of
     x, y, z; mean cage speed relative to its kinematic value and its peak-to-peak; the
     quasi-periodicity index; the actual preload and set-point mapped to [-1, 1]; shaft speed /
-    25,000 rpm. Optional Gaussian sensor noise (``obs_noise_std``).
+    25,000 rpm; the static radial and axial offsets of the rotor (mean displacement / 100 um,
+    what a displacement probe reads: they reveal the radial load and the clearance). Optional
+    Gaussian sensor noise (``obs_noise_std``).
 
     ## Rewards
 

@@ -82,11 +82,13 @@ def dist_pinned(opts: Mapping[str, Any]) -> dict[str, Any]:
 
 def initial_observation(batch: PreloadBatch, idx: np.ndarray, obs_model: ObservationModel,
                         rngs) -> np.ndarray:
-    """Observation at reset: no motion yet (features zero), actual preload and speed."""
-    from bearing_gym.analysis.window import F_CAGE_MEAN
+    """Observation at reset: no motion yet (interval features zero), the static offsets of the
+    equilibrium the rotor starts at, actual preload and speed."""
+    from bearing_gym.analysis.window import F_CAGE_MEAN, F_MEAN_X
     from bearing_gym.physics.rotor import S_CAGE_SPEED
     feats = np.zeros((len(idx), batch.feats.shape[1]))
     feats[:, F_CAGE_MEAN] = batch.scal[idx, S_CAGE_SPEED]
+    feats[:, F_MEAN_X:F_MEAN_X + 3] = batch.X[idx, 0:3]
     a = batch.actuator
     return obs_model.build(feats, batch.preload[idx], batch.setpoint[idx], batch.omega()[idx],
                            batch.gamma_cos_a0, a.min_preload_n, a.max_preload_n, rngs)

@@ -13,6 +13,7 @@ from agents.evaluate import run_policies
 from agents.policies import ConstantPreload, FeedbackRule, OraclePreload, SpeedScheduledPreload
 from agents.stability_table import DEFAULT_PATH, StabilityTable
 from bearing_gym.envs import BearingPreloadEnv
+from bearing_gym.envs.observation import FEATURE_NAMES
 
 ROOT = Path(__file__).resolve().parents[2]
 
@@ -46,7 +47,7 @@ def test_constant_preload_rejects_out_of_range():
 
 def test_feedback_rule_raises_on_quasi_periodic_and_lowers_slowly():
     pol = FeedbackRule(start_n=1000.0, raise_n=200.0, lower_n=10.0, hold_steps=2)
-    obs = np.zeros((1, 12))
+    obs = np.zeros((1, len(FEATURE_NAMES)))
     obs[0, 8] = 0.9
     _, st = pol.predict(obs, episode_start=np.array([True]))
     assert st[0, 0] == 1200.0
@@ -84,18 +85,26 @@ def test_smoke_training_saves_reloads_and_evaluates(algo, tmp_path):
     out = tmp_path / algo
     rc = train.main(["--algo", algo, "--timesteps", "128", "--n-envs", "2", "--out", str(out),
                      "--episode-steps", "16", "--eval-episodes", "2", "--eval-freq", "64",
-                     "--checkpoint-freq", "64", "--no-progress"])
+                     "--val-episodes", "2", "--checkpoint-freq", "64", "--no-progress"])
     assert rc == 0
-    for name in ("model.zip", "vec_normalize.pkl", "config.json", "evaluation.md", "evaluation.csv"):
+    for name in ("model.zip", "vec_normalize.pkl", "last_model.zip", "last_vec_normalize.pkl",
+                 "config.json", "evaluation.md", "evaluation.csv", "eval/best.json"):
         assert (out / name).exists(), name
     cfg = json.loads((out / "config.json").read_text())
     assert cfg["num_timesteps"] >= 128
+    # model.zip is the best validation checkpoint, with the statistics saved with it
+    best = json.loads((out / "eval" / "best.json").read_text())
+    assert cfg["selected"] == "best validation checkpoint" and cfg["selected_timesteps"] == best["num_timesteps"]
+    assert (out / "model.zip").read_bytes() == (out / "eval" / "best_model.zip").read_bytes()
+    assert (out / "vec_normalize.pkl").read_bytes() == (out / "eval" / "best_vec_normalize.pkl").read_bytes()
     text = (out / "evaluation.md").read_text()
     assert "trained" in text and "constant" in text and "feedback" in text
     # VecNormalize statistics survive save/load
     with (out / "vec_normalize.pkl").open("rb") as fh:
         vn = pickle.load(fh)
-    assert vn.obs_rms.count > 100 and np.all(np.isfinite(vn.obs_rms.mean)) and np.any(vn.obs_rms.var != 1.0)
+    assert vn.obs_rms.count > best["num_timesteps"] and np.all(np.isfinite(vn.obs_rms.mean)) and np.any(vn.obs_rms.var != 1.0)
+    with (out / "last_vec_normalize.pkl").open("rb") as fh:
+        assert pickle.load(fh).obs_rms.count > 128
     from agents.evaluate import load_trained
     pol = load_trained(out)
     np.testing.assert_array_equal(pol.obs_rms.mean, vn.obs_rms.mean)
@@ -104,13 +113,41 @@ def test_smoke_training_saves_reloads_and_evaluates(algo, tmp_path):
     def resume(total: int) -> int:
         rc = train.main(["--algo", algo, "--timesteps", str(total), "--n-envs", "2", "--out", str(out), "--resume",
                          "--episode-steps", "16", "--eval-episodes", "0", "--eval-freq", "64",
-                         "--checkpoint-freq", "64", "--no-progress"])
+                         "--val-episodes", "2", "--checkpoint-freq", "64", "--no-progress"])
         assert rc == 0
         return json.loads((out / "config.json").read_text())["num_timesteps"]
     done = cfg["num_timesteps"]
     resumed = resume(done + 64)
     assert resumed >= done + 64
     assert resume(resumed) == resumed
+
+
+def test_validation_scores_every_checkpoint_on_the_same_scenarios(tmp_path):
+    """The same policy evaluated twice by ValidationCallback gets the same returns (fixed
+    validation scenarios); SB3's plain EvalCallback draws new scenarios each time."""
+    sys.path.insert(0, str(ROOT))
+    import train
+    from stable_baselines3 import PPO
+    from stable_baselines3.common.callbacks import EvalCallback
+    from stable_baselines3.common.logger import configure as configure_logger
+    from stable_baselines3.common.vec_env import VecNormalize
+    from agents.callbacks import ValidationCallback
+    env = VecNormalize(train.make_env(2, 0, 6))
+    model = PPO("MlpPolicy", env, n_steps=8, batch_size=8, seed=0, device="cpu")
+    model.set_logger(configure_logger(None, []))
+
+    def two_evaluations(cls, path, **kw):
+        val = VecNormalize(train.make_env(2, 50000, 6), training=False, norm_reward=False)
+        cb = cls(val, n_eval_episodes=2, eval_freq=1, log_path=str(path), best_model_save_path=str(path), **kw)
+        cb.init_callback(model)
+        cb.on_step()
+        cb.on_step()
+        return np.array(cb.evaluations_results)
+    fixed = two_evaluations(ValidationCallback, tmp_path / "fixed", validation_seed=50000)
+    np.testing.assert_array_equal(fixed[0], fixed[1])
+    assert (tmp_path / "fixed" / "best_vec_normalize.pkl").exists()
+    drawn = two_evaluations(EvalCallback, tmp_path / "drawn")
+    assert not np.array_equal(np.sort(drawn[0]), np.sort(drawn[1]))
 
 
 def _result(name, returns, qp=None):

@@ -6,6 +6,7 @@ import pytest
 
 import bearing_gym  # noqa: F401
 from bearing_gym.envs import BearingPreloadEnv, BearingPreloadSB3VecEnv, BearingPreloadVectorEnv
+from bearing_gym.envs.observation import FEATURE_NAMES
 
 
 def test_vector_env_equals_single_envs_including_autoreset():
@@ -37,7 +38,7 @@ def test_make_vec_uses_the_native_vector_env():
                      scenario="paper")
     assert isinstance(v.unwrapped, BearingPreloadVectorEnv)
     obs, _ = v.reset(seed=0)
-    assert obs.shape == (2, 12)
+    assert obs.shape == (2, len(FEATURE_NAMES))
     obs, rew, term, trunc, info = v.step(np.zeros((2, 1), dtype=np.float32))
     assert rew.shape == (2,) and "reward_vibration" in info
 
@@ -57,12 +58,12 @@ def test_sb3_vec_env_adapter_resets_in_the_same_step():
     assert isinstance(venv, VecEnv)
     venv.seed(4)
     obs = venv.reset()
-    assert obs.shape == (2, 12)
+    assert obs.shape == (2, len(FEATURE_NAMES))
     for k in range(3):
         obs, rew, dones, infos = venv.step(np.zeros((2, 1), dtype=np.float32))
     assert dones.all()
     assert all(i["TimeLimit.truncated"] for i in infos)
-    assert all(i["terminal_observation"].shape == (12,) for i in infos)
+    assert all(i["terminal_observation"].shape == (len(FEATURE_NAMES),) for i in infos)
     assert rew.dtype == np.float32
 
 

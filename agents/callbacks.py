@@ -1,0 +1,65 @@
+"""Training callbacks: checkpoint selection on a fixed validation set.
+
+SB3's ``EvalCallback`` evaluates on whatever scenarios its eval env draws next, so two
+evaluations of the same policy see different scenarios and the "best model" it keeps is partly
+the luck of the draw (on this env the scenario-to-scenario spread of the return is several
+times the difference between two checkpoints). :class:`ValidationCallback` re-seeds the eval
+env before every evaluation, so every checkpoint is scored on the *same* validation scenarios,
+and saves the VecNormalize statistics beside the best model (the model alone cannot be
+evaluated without the observation statistics it was trained with).
+
+The validation seeds must differ from the held-out test seeds of ``agents.evaluate``
+(100000 and up): choosing a checkpoint on the test scenarios would bias the test.
+"""
+
+from __future__ import annotations
+
+import json
+from pathlib import Path
+
+from stable_baselines3.common.callbacks import EvalCallback
+
+__all__ = ["ValidationCallback", "BEST_MODEL", "BEST_VECNORMALIZE", "BEST_INFO"]
+
+BEST_MODEL = "best_model.zip"
+BEST_VECNORMALIZE = "best_vec_normalize.pkl"
+BEST_INFO = "best.json"
+
+
+class ValidationCallback(EvalCallback):
+    """``EvalCallback`` on a fixed validation set.
+
+    :param eval_env: the validation VecEnv (wrapped like the training env, VecNormalize with
+        ``training=False``); it is re-seeded with ``validation_seed`` before each evaluation.
+    :param validation_seed: seed of the validation scenarios (env i of the VecEnv gets
+        ``validation_seed + i``; each env then runs its episodes one after the other).
+    :param best_model_save_path: directory for ``best_model.zip``, ``best_vec_normalize.pkl`` and
+        ``best.json`` (mean validation return and step count of the best checkpoint). On resume
+        an existing ``best.json`` is read, so a later checkpoint must beat the earlier best.
+    Other arguments as for ``EvalCallback``.
+    """
+
+    def __init__(self, eval_env, validation_seed: int, best_model_save_path: str, **kwargs):
+        super().__init__(eval_env, best_model_save_path=best_model_save_path, **kwargs)
+        self.validation_seed = int(validation_seed)
+        self.best_dir = Path(best_model_save_path)
+        info = self.best_dir / BEST_INFO
+        if info.exists():
+            self.best_mean_reward = float(json.loads(info.read_text())["mean_validation_return"])
+
+    def _on_step(self) -> bool:
+        due = self.eval_freq > 0 and self.n_calls % self.eval_freq == 0
+        if due:
+            self.eval_env.seed(self.validation_seed)
+        best_before = self.best_mean_reward
+        keep_going = super()._on_step()
+        if due and self.best_mean_reward > best_before:
+            vn = self.model.get_vec_normalize_env()
+            if vn is not None:
+                vn.save(str(self.best_dir / BEST_VECNORMALIZE))
+            (self.best_dir / BEST_INFO).write_text(json.dumps(
+                {"mean_validation_return": float(self.best_mean_reward),
+                 "num_timesteps": int(self.num_timesteps),
+                 "validation_seed": self.validation_seed,
+                 "episodes": int(self.n_eval_episodes)}, indent=2))
+        return keep_going
