@@ -1,8 +1,8 @@
 """Evaluate preload controllers side by side on the same held-out scenarios.
 
-    python -m agents.evaluate --model DIR [--episodes 20] [--episode-steps 100] [--seed 100000]
+    python -m agents.evaluate --model DIR [DIR ...] [--episodes 20] [--episode-steps 100] [--seed 100000]
 
-Runs the trained policy in DIR (``model.zip`` + ``vec_normalize.pkl`` from ``train.py``) and
+Runs the trained policy in each DIR (PPO and SAC side by side, say) (``model.zip`` + ``vec_normalize.pkl`` from ``train.py``) and
 every scripted baseline on the same seeds (env i of the batch is seeded ``seed + i``, so every
 policy meets the same scenarios), and writes ``DIR/evaluation.md``, ``DIR/evaluation.csv`` and
 ``DIR/evaluation_traces.png``. Per policy: mean return with a 95 % confidence interval
@@ -96,7 +96,9 @@ def load_trained(model_dir: str | Path) -> SB3Policy:
     if vn.exists():
         with vn.open("rb") as fh:
             obs_rms = pickle.load(fh).obs_rms
-    return SB3Policy(model, obs_rms, name=f"{cfg['algo'].upper()} (trained)")
+    steps = cfg.get("selected_timesteps", cfg.get("num_timesteps"))
+    label = f"{cfg['algo'].upper()} (trained)" if steps is None else f"{cfg['algo'].upper()} (trained, {int(steps):,} steps)"
+    return SB3Policy(model, obs_rms, name=label)
 
 
 def run_policies(policies: list[Policy], episodes: int, seed: int, episode_steps: int,
@@ -240,7 +242,7 @@ def write_report(results: list[EvalResult], out_dir: Path, header: str = "",
         print(f"warning: no trace figure ({err})")
 
 
-def evaluate(model_dir: str | Path | None, episodes: int = 20, seed: int = 100000,
+def evaluate(model_dir: str | Path | list[str | Path] | None, episodes: int = 20, seed: int = 100000,
              episode_steps: int = 100, out_dir: str | Path | None = None,
              table_path: str | Path | None = None, verbose: bool = True) -> list[EvalResult]:
     try:
@@ -249,12 +251,11 @@ def evaluate(model_dir: str | Path | None, episodes: int = 20, seed: int = 10000
         print(f"warning: {err}; speed-schedule and oracle baselines skipped")
         table = None
     best_n, sweep = best_constant_preload(episodes, seed, episode_steps)
-    policies: list[Policy] = []
-    if model_dir is not None:
-        policies.append(load_trained(model_dir))
+    model_dirs = [] if model_dir is None else [model_dir] if isinstance(model_dir, (str, Path)) else list(model_dir)
+    policies: list[Policy] = [load_trained(d) for d in model_dirs]
     policies += baselines(table, best_n)
     results = run_policies(policies, episodes, seed, episode_steps) + [hindsight_constant(sweep)]
-    out = Path(out_dir or model_dir or "evaluation")
+    out = Path(out_dir or (model_dirs[0] if model_dirs else "evaluation"))
     header = (f"Held-out seeds {seed}..{seed + episodes - 1}, {episodes} episodes of {episode_steps} control "
               f"intervals (20 ms) each, randomized scenarios; best constant preload from a sweep over "
               f"{', '.join(f'{p:.0f}' for p in CONSTANT_CANDIDATES_N)} N on the same scenarios: {best_n:.0f} N. "
@@ -267,11 +268,12 @@ def evaluate(model_dir: str | Path | None, episodes: int = 20, seed: int = 10000
 
 def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    ap.add_argument("--model", help="directory written by train.py (omit to evaluate the baselines only)")
+    ap.add_argument("--model", nargs="+", help="directories written by train.py, evaluated side by side "
+                    "(omit to evaluate the baselines only)")
     ap.add_argument("--episodes", type=int, default=20)
     ap.add_argument("--episode-steps", type=int, default=100)
     ap.add_argument("--seed", type=int, default=100000)
-    ap.add_argument("--out", help="output directory (default: the model directory)")
+    ap.add_argument("--out", help="output directory (default: the first model directory)")
     args = ap.parse_args(argv)
     if args.episodes < 2:
         ap.error("--episodes must be >= 2 (a confidence interval needs two episodes)")

@@ -105,9 +105,15 @@ def test_smoke_training_saves_reloads_and_evaluates(algo, tmp_path):
     assert vn.obs_rms.count > best["num_timesteps"] and np.all(np.isfinite(vn.obs_rms.mean)) and np.any(vn.obs_rms.var != 1.0)
     with (out / "last_vec_normalize.pkl").open("rb") as fh:
         assert pickle.load(fh).obs_rms.count > 128
-    from agents.evaluate import load_trained
+    from agents.evaluate import evaluate, load_trained
     pol = load_trained(out)
     np.testing.assert_array_equal(pol.obs_rms.mean, vn.obs_rms.mean)
+    assert f"{best['num_timesteps']:,} steps" in pol.name
+    # several trained policies side by side, on the same scenarios as the baselines
+    res = evaluate([out, out], episodes=2, episode_steps=4, out_dir=tmp_path / "side", verbose=False)
+    trained = [r for r in res if "(trained" in r.name]
+    assert len(trained) == 2 and np.array_equal(trained[0].returns, trained[1].returns)
+    assert (tmp_path / "side" / "evaluation.md").read_text().count("(trained") >= 2
     # resumable; --timesteps is the total: a resumed run continues up to it (SB3 stops at the first
     # rollout boundary at or past it), and one that is already there trains no further
     def resume(total: int) -> int:
