@@ -24,9 +24,6 @@ import time
 from pathlib import Path
 
 
-TEST_SEED = 100000      # agents.evaluate's default first held-out seed
-
-
 def build_parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(description="Train PPO or SAC on BearingPreload-v0 and evaluate it.")
     ap.add_argument("--algo", choices=("ppo", "sac"), default="ppo")
@@ -74,6 +71,7 @@ def main(argv: list[str] | None = None) -> int:
         raise SystemExit("train.py: --timesteps and --n-envs must be >= 1")
     if args.val_episodes < 1:
         raise SystemExit("train.py: --val-episodes must be >= 1")
+    from agents.evaluate import TEST_SEED
     n_val_envs = min(10, args.val_episodes)
     if args.val_seed < TEST_SEED + max(args.eval_episodes, 1) and TEST_SEED < args.val_seed + n_val_envs:
         raise SystemExit(f"train.py: --val-seed {args.val_seed} overlaps the held-out test seeds "
@@ -133,15 +131,15 @@ def main(argv: list[str] | None = None) -> int:
     env.save(str(out / "last_vec_normalize.pkl"))
     best = out / "eval"
     if args.select == "best" and (best / BEST_MODEL).exists() and (best / BEST_VECNORMALIZE).exists():
-        shutil.copyfile(best / BEST_MODEL, out / "model.zip")
-        shutil.copyfile(best / BEST_VECNORMALIZE, out / "vec_normalize.pkl")
+        sources = (best / BEST_MODEL, best / BEST_VECNORMALIZE)
         info = json.loads((best / BEST_INFO).read_text())
         selected = dict(selected="best validation checkpoint", selected_timesteps=info["num_timesteps"],
                         selected_validation_return=info["mean_validation_return"])
     else:
-        shutil.copyfile(out / "last_model.zip", out / "model.zip")
-        shutil.copyfile(out / "last_vec_normalize.pkl", out / "vec_normalize.pkl")
+        sources = (out / "last_model.zip", out / "last_vec_normalize.pkl")
         selected = dict(selected="final weights", selected_timesteps=int(model.num_timesteps))
+    for src, dst in zip(sources, ("model.zip", "vec_normalize.pkl")):
+        shutil.copyfile(src, out / dst)
     train_s = time.time() - t0
     cfg = dict(vars(args), train_wall_s=train_s, num_timesteps=int(model.num_timesteps), **selected)
     (out / "config.json").write_text(json.dumps(cfg, indent=2))

@@ -2,9 +2,9 @@
 
     python -m agents.evaluate --model DIR [DIR ...] [--episodes 20] [--episode-steps 100] [--seed 100000]
 
-Runs the trained policy in each DIR (PPO and SAC side by side, say) (``model.zip`` + ``vec_normalize.pkl`` from ``train.py``) and
-every scripted baseline on the same seeds (env i of the batch is seeded ``seed + i``, so every
-policy meets the same scenarios), and writes ``DIR/evaluation.md``, ``DIR/evaluation.csv`` and
+Runs the trained policy in each DIR (``model.zip`` + ``vec_normalize.pkl`` from ``train.py``;
+several DIRs put PPO and SAC side by side) and every scripted baseline on the same seeds (env i
+of the batch is seeded ``seed + i``, so every policy meets the same scenarios), and writes ``DIR/evaluation.md``, ``DIR/evaluation.csv`` and
 ``DIR/evaluation_traces.png``. Per policy: mean return with a 95 % confidence interval
 (Student t over episodes), the mean of each reward term, the fraction of control intervals spent
 quasi-periodic (index > 0.3) and the mean preload.
@@ -29,6 +29,7 @@ from .policies import ConstantPreload, FeedbackRule, OraclePreload, Policy, Spee
 from .stability_table import StabilityTable
 
 QP_THRESHOLD = 0.3
+TEST_SEED = 100000          # first held-out test seed (train.py keeps its validation seeds apart)
 CONSTANT_CANDIDATES_N = (600.0, 800.0, 1000.0, 1200.0, 1400.0, 1600.0, 1800.0, 2000.0)
 
 
@@ -97,8 +98,8 @@ def load_trained(model_dir: str | Path) -> SB3Policy:
         with vn.open("rb") as fh:
             obs_rms = pickle.load(fh).obs_rms
     steps = cfg.get("selected_timesteps", cfg.get("num_timesteps"))
-    label = f"{cfg['algo'].upper()} (trained)" if steps is None else f"{cfg['algo'].upper()} (trained, {int(steps):,} steps)"
-    return SB3Policy(model, obs_rms, name=label)
+    detail = "" if steps is None else f", {int(steps):,} steps"
+    return SB3Policy(model, obs_rms, name=f"{cfg['algo'].upper()} (trained{detail})")
 
 
 def run_policies(policies: list[Policy], episodes: int, seed: int, episode_steps: int,
@@ -242,7 +243,7 @@ def write_report(results: list[EvalResult], out_dir: Path, header: str = "",
         print(f"warning: no trace figure ({err})")
 
 
-def evaluate(model_dir: str | Path | list[str | Path] | None, episodes: int = 20, seed: int = 100000,
+def evaluate(model_dir: str | Path | list[str | Path] | None, episodes: int = 20, seed: int = TEST_SEED,
              episode_steps: int = 100, out_dir: str | Path | None = None,
              table_path: str | Path | None = None, verbose: bool = True) -> list[EvalResult]:
     try:
@@ -251,7 +252,12 @@ def evaluate(model_dir: str | Path | list[str | Path] | None, episodes: int = 20
         print(f"warning: {err}; speed-schedule and oracle baselines skipped")
         table = None
     best_n, sweep = best_constant_preload(episodes, seed, episode_steps)
-    model_dirs = [] if model_dir is None else [model_dir] if isinstance(model_dir, (str, Path)) else list(model_dir)
+    if model_dir is None:
+        model_dirs = []
+    elif isinstance(model_dir, (str, Path)):
+        model_dirs = [model_dir]
+    else:
+        model_dirs = list(model_dir)
     policies: list[Policy] = [load_trained(d) for d in model_dirs]
     policies += baselines(table, best_n)
     results = run_policies(policies, episodes, seed, episode_steps) + [hindsight_constant(sweep)]
@@ -272,7 +278,7 @@ def main(argv: list[str] | None = None) -> None:
                     "(omit to evaluate the baselines only)")
     ap.add_argument("--episodes", type=int, default=20)
     ap.add_argument("--episode-steps", type=int, default=100)
-    ap.add_argument("--seed", type=int, default=100000)
+    ap.add_argument("--seed", type=int, default=TEST_SEED)
     ap.add_argument("--out", help="output directory (default: the first model directory)")
     args = ap.parse_args(argv)
     if args.episodes < 2:
