@@ -87,6 +87,7 @@ def main(argv: list[str] | None = None) -> int:
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     algo_cls = {"ppo": PPO, "sac": SAC}[args.algo]
+    off_policy = args.algo == "sac"   # its replay buffer is checkpointed too, so --resume continues it
     t0 = time.time()
 
     env = make_env(args.n_envs, args.seed, args.episode_steps)
@@ -99,6 +100,15 @@ def main(argv: list[str] | None = None) -> int:
         env = VecNormalize.load(str(ckpt_dir / f"model_vecnormalize_{steps}_steps.pkl"), env)
         model = algo_cls.load(last, env=env, device="cpu")
         print(f"resuming from {last} ({steps} steps)")
+        if off_policy:
+            buffer = ckpt_dir / f"model_replay_buffer_{steps}_steps.pkl"
+            if buffer.exists():
+                model.load_replay_buffer(buffer)
+            else:
+                # SB3 would train at once on a nearly empty buffer: refill it first
+                model.learning_starts = model.num_timesteps + hyperparams(args.algo).get("learning_starts", 100)
+                print(f"no replay buffer {buffer.name}: collecting {model.learning_starts - model.num_timesteps} "
+                      "steps before the first gradient step")
     else:
         if args.resume:
             print(f"no checkpoint in {ckpt_dir}: starting a new run")
@@ -117,7 +127,7 @@ def main(argv: list[str] | None = None) -> int:
                            eval_freq=max(1, args.eval_freq // per_env), best_model_save_path=str(out / "eval"),
                            log_path=str(out / "eval"), deterministic=True),
         CheckpointCallback(save_freq=max(1, args.checkpoint_freq // per_env), save_path=str(ckpt_dir),
-                           name_prefix="model", save_vecnormalize=True),
+                           name_prefix="model", save_vecnormalize=True, save_replay_buffer=off_policy),
     ])
     resumed = bool(args.resume and latest)
     # SB3 counts total_timesteps on top of num_timesteps when it does not reset them
@@ -141,6 +151,8 @@ def main(argv: list[str] | None = None) -> int:
     for src, dst in zip(sources, ("model.zip", "vec_normalize.pkl")):
         shutil.copyfile(src, out / dst)
     train_s = time.time() - t0
+    if resumed and (out / "config.json").exists():   # wall time of the earlier sessions of this run
+        train_s += json.loads((out / "config.json").read_text()).get("train_wall_s", 0.0)
     cfg = dict(vars(args), train_wall_s=train_s, num_timesteps=int(model.num_timesteps), **selected)
     (out / "config.json").write_text(json.dumps(cfg, indent=2))
     print(f"trained {model.num_timesteps} steps in {train_s / 60:.1f} min -> {out} "

@@ -79,7 +79,7 @@ def test_hyperparameter_files_load_for_rl_zoo_and_sb3():
 
 
 @pytest.mark.parametrize("algo", ["ppo", "sac"])
-def test_smoke_training_saves_reloads_and_evaluates(algo, tmp_path):
+def test_smoke_training_saves_reloads_and_evaluates(algo, tmp_path, capsys):
     sys.path.insert(0, str(ROOT))
     import train
     out = tmp_path / algo
@@ -123,9 +123,24 @@ def test_smoke_training_saves_reloads_and_evaluates(algo, tmp_path):
         assert rc == 0
         return json.loads((out / "config.json").read_text())["num_timesteps"]
     done = cfg["num_timesteps"]
+    capsys.readouterr()
     resumed = resume(done + 64)
     assert resumed >= done + 64
+    printed = capsys.readouterr().out
+    assert "resuming from" in printed
+    # SAC checkpoints its replay buffer, and a resumed run continues with it
+    buffers = sorted((out / "checkpoints").glob("model_replay_buffer_*_steps.pkl"))
+    assert bool(buffers) == (algo == "sac")
+    assert "no replay buffer" not in printed
+    # the wall time in config.json covers every session of the run
+    assert json.loads((out / "config.json").read_text())["train_wall_s"] > cfg["train_wall_s"]
     assert resume(resumed) == resumed
+    if algo == "sac":   # a checkpoint without its buffer (an older run): refill before training
+        for b in buffers:
+            b.unlink()
+        capsys.readouterr()
+        assert resume(resumed + 64) >= resumed + 64
+        assert "no replay buffer" in capsys.readouterr().out
 
 
 def test_validation_scores_every_checkpoint_on_the_same_scenarios(tmp_path):
