@@ -180,8 +180,9 @@ def hindsight_constant(sweep: list[EvalResult]) -> EvalResult:
                       chosen([r.qp_fraction for r in sweep]), chosen([r.mean_preload for r in sweep]))
 
 
-def baselines(table: StabilityTable | None, best_constant_n: float) -> list[Policy]:
-    pols: list[Policy] = [ConstantPreload(best_constant_n), FeedbackRule()]
+def baselines(table: StabilityTable | None) -> list[Policy]:
+    """The scripted controllers besides the constant preloads (those come from the sweep)."""
+    pols: list[Policy] = [FeedbackRule()]
     if table is not None:
         pols += [SpeedScheduledPreload(table), OraclePreload(table)]
     return pols
@@ -259,8 +260,11 @@ def evaluate(model_dir: str | Path | list[str | Path] | None, episodes: int = 20
     else:
         model_dirs = list(model_dir)
     policies: list[Policy] = [load_trained(d) for d in model_dirs]
-    policies += baselines(table, best_n)
-    results = run_policies(policies, episodes, seed, episode_steps) + [hindsight_constant(sweep)]
+    policies += baselines(table)
+    results = run_policies(policies, episodes, seed, episode_steps)
+    # the best constant's row is its sweep run (same scenarios, deterministic): no second run
+    best_row = next(r for r in sweep if r.name == ConstantPreload(best_n).name)
+    results = results[:len(model_dirs)] + [best_row] + results[len(model_dirs):] + [hindsight_constant(sweep)]
     out = Path(out_dir or (model_dirs[0] if model_dirs else "evaluation"))
     header = (f"Held-out seeds {seed}..{seed + episodes - 1}, {episodes} episodes of {episode_steps} control "
               f"intervals (20 ms) each, randomized scenarios; best constant preload from a sweep over "

@@ -199,3 +199,13 @@ def test_paired_difference_matches_a_hand_computed_t_interval():
     d = np.array([2.0, 5.0, 1.0, 4.0])
     half = 3.182446305284263 * d.std(ddof=1) / 2.0      # t(0.975, 3) from tables
     assert m == pytest.approx(3.0) and lo == pytest.approx(3.0 - half) and hi == pytest.approx(3.0 + half)
+
+
+def test_episode_results_do_not_depend_on_the_batch_they_run_in():
+    # evaluate() reuses the best constant's sweep row instead of running it again next to the
+    # other policies; that is only sound if an episode's outcome is independent of its batch
+    alone = run_policies([ConstantPreload(1000.0)], episodes=2, seed=100000, episode_steps=3)[0]
+    mixed = run_policies([ConstantPreload(600.0), FeedbackRule(), ConstantPreload(1000.0)],
+                         episodes=2, seed=100000, episode_steps=3)[2]
+    np.testing.assert_array_equal(alone.returns, mixed.returns)
+    np.testing.assert_array_equal(alone.trace["qpi"], mixed.trace["qpi"])
