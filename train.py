@@ -9,7 +9,7 @@ training=False for evaluation), config.json, checkpoints/ (resumable), tensorboa
 tensorboard is installed), eval/ (validation: every --eval-freq steps the policy runs on the
 same --val-episodes scenarios, seeds from --val-seed, distinct from the test seeds; the best
 checkpoint and its VecNormalize statistics are kept there), last_model.zip and
-last_vec_normalize.pkl (the final weights), and evaluation.md/.csv/_traces.png (agents.evaluate
+last_vec_normalize.pkl (the final weights), and evaluation.md/.csv/_episodes.csv/_traces.png (agents.evaluate
 on held-out seeds). model.zip is the best validation checkpoint (--select best, the default) or
 the final weights (--select last).
 """

@@ -4,8 +4,9 @@
 
 Runs the trained policy in each DIR (``model.zip`` + ``vec_normalize.pkl`` from ``train.py``;
 several DIRs put PPO and SAC side by side) and every scripted baseline on the same seeds (env i
-of the batch is seeded ``seed + i``, so every policy meets the same scenarios), and writes ``DIR/evaluation.md``, ``DIR/evaluation.csv`` and
-``DIR/evaluation_traces.png``. Per policy: mean return with a 95 % confidence interval
+of the batch is seeded ``seed + i``, so every policy meets the same scenarios), and writes
+``DIR/evaluation.md``, ``DIR/evaluation.csv``, ``DIR/evaluation_episodes.csv`` (every episode's
+return per policy) and ``DIR/evaluation_traces.png``. Per policy: mean return with a 95 % confidence interval
 (Student t over episodes), the mean of each reward term, the fraction of control intervals spent
 quasi-periodic (index > 0.3) and the mean preload.
 """
@@ -201,13 +202,21 @@ def paired_difference(a: EvalResult, b: EvalResult) -> tuple[float, float, float
 
 
 def write_report(results: list[EvalResult], out_dir: Path, header: str = "",
-                 reference: str | None = None) -> None:
+                 reference: str | None = None, first_seed: int | None = None) -> None:
+    """evaluation.md (table, paired differences to ``reference``), evaluation.csv (one row per
+    policy), evaluation_episodes.csv (the return of every policy in every episode, for statistics
+    of your own; with ``first_seed`` the episode's scenario seed) and evaluation_traces.png."""
     out_dir.mkdir(parents=True, exist_ok=True)
     rows = [r.row() for r in results]
     with (out_dir / "evaluation.csv").open("w", newline="") as fh:
         w = csv.DictWriter(fh, fieldnames=list(rows[0]))
         w.writeheader()
         w.writerows(rows)
+    with (out_dir / "evaluation_episodes.csv").open("w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(["episode", "seed"] + [r.name for r in results])
+        for i in range(min(len(r.returns) for r in results)):
+            w.writerow([i, "" if first_seed is None else first_seed + i] + [repr(float(r.returns[i])) for r in results])
     lines = [f"# Evaluation\n", header, "",
              "| policy | episodes | mean return | 95 % CI | vibration | heat | fatigue | preload change | time quasi-periodic | mean preload (N) |",
              "|---|---|---|---|---|---|---|---|---|---|"]
@@ -270,7 +279,7 @@ def evaluate(model_dir: str | Path | list[str | Path] | None, episodes: int = 20
               f"intervals (20 ms) each, randomized scenarios; best constant preload from a sweep over "
               f"{', '.join(f'{p:.0f}' for p in CONSTANT_CANDIDATES_N)} N on the same scenarios: {best_n:.0f} N. "
               f"The last row picks, for each scenario, the best of those constants with hindsight.")
-    write_report(results, out, header, reference=ConstantPreload(best_n).name)
+    write_report(results, out, header, reference=ConstantPreload(best_n).name, first_seed=seed)
     if verbose:
         print((out / "evaluation.md").read_text())
     return results

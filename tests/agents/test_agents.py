@@ -1,5 +1,6 @@
 """Scripted policies, the evaluation loop and SB3 training (smoke scale)."""
 
+import csv
 import json
 import pickle
 import sys
@@ -114,6 +115,12 @@ def test_smoke_training_saves_reloads_and_evaluates(algo, tmp_path, capsys):
     trained = [r for r in res if "(trained" in r.name]
     assert len(trained) == 2 and np.array_equal(trained[0].returns, trained[1].returns)
     assert (tmp_path / "side" / "evaluation.md").read_text().count("(trained") >= 2
+    # every episode's return, per policy, with its scenario seed
+    with (tmp_path / "side" / "evaluation_episodes.csv").open() as fh:
+        per_episode = list(csv.DictReader(fh))
+    assert [int(row["seed"]) for row in per_episode] == [100000, 100001]
+    for r in res:
+        assert [float(row[r.name]) for row in per_episode] == list(r.returns)
     # resumable; --timesteps is the total: a resumed run continues up to it (SB3 stops at the first
     # rollout boundary at or past it), and one that is already there trains no further
     def resume(total: int) -> int:
