@@ -122,14 +122,17 @@ def main(argv: list[str] | None = None) -> int:
                          tensorboard_log=tb, **hyperparams(args.algo))
     eval_env = VecNormalize(eval_env, norm_obs=True, norm_reward=False, training=False)
     per_env = max(1, args.n_envs)
+    resumed = bool(args.resume and latest)
+    if not resumed:   # a new run in an old directory must not select the old run's best model
+        for name in (BEST_MODEL, BEST_VECNORMALIZE, BEST_INFO):
+            (out / "eval" / name).unlink(missing_ok=True)
     callbacks = CallbackList([
-        ValidationCallback(eval_env, validation_seed=args.val_seed, n_eval_episodes=args.val_episodes,
+        ValidationCallback(eval_env, validation_seed=args.val_seed, resume=resumed, n_eval_episodes=args.val_episodes,
                            eval_freq=max(1, args.eval_freq // per_env), best_model_save_path=str(out / "eval"),
                            log_path=str(out / "eval"), deterministic=True),
         CheckpointCallback(save_freq=max(1, args.checkpoint_freq // per_env), save_path=str(ckpt_dir),
                            name_prefix="model", save_vecnormalize=True, save_replay_buffer=off_policy),
     ])
-    resumed = bool(args.resume and latest)
     # SB3 counts total_timesteps on top of num_timesteps when it does not reset them
     remaining = args.timesteps - model.num_timesteps if resumed else args.timesteps
     if remaining > 0:

@@ -17,6 +17,7 @@ from __future__ import annotations
 import json
 from pathlib import Path
 
+import numpy as np
 from stable_baselines3.common.callbacks import EvalCallback
 
 __all__ = ["ValidationCallback", "BEST_MODEL", "BEST_VECNORMALIZE", "BEST_INFO"]
@@ -34,18 +35,26 @@ class ValidationCallback(EvalCallback):
     :param validation_seed: seed of the validation scenarios (env i of the VecEnv gets
         ``validation_seed + i``; each env then runs its episodes one after the other).
     :param best_model_save_path: directory for ``best_model.zip``, ``best_vec_normalize.pkl`` and
-        ``best.json`` (mean validation return and step count of the best checkpoint). On resume
-        an existing ``best.json`` is read, so a later checkpoint must beat the earlier best.
+        ``best.json`` (mean validation return and step count of the best checkpoint).
+    :param resume: continue an earlier run: its ``best.json`` is read, so a later checkpoint must
+        beat the earlier best, and the validation history in ``log_path/evaluations.npz`` is
+        extended rather than overwritten. A new run (``False``) ignores both.
     Other arguments as for ``EvalCallback``.
     """
 
-    def __init__(self, eval_env, validation_seed: int, best_model_save_path: str, **kwargs):
+    def __init__(self, eval_env, validation_seed: int, best_model_save_path: str, resume: bool = False, **kwargs):
         super().__init__(eval_env, best_model_save_path=best_model_save_path, **kwargs)
         self.validation_seed = int(validation_seed)
         self.best_dir = Path(best_model_save_path)
         info = self.best_dir / BEST_INFO
-        if info.exists():
+        if resume and info.exists():
             self.best_mean_reward = float(json.loads(info.read_text())["mean_validation_return"])
+        history = Path(f"{self.log_path}.npz") if self.log_path else None
+        if resume and history is not None and history.exists():
+            with np.load(history) as log:
+                self.evaluations_timesteps = [int(t) for t in log["timesteps"]]
+                self.evaluations_results = [list(r) for r in log["results"]]
+                self.evaluations_length = [list(n) for n in log["ep_lengths"]]
 
     def _on_step(self) -> bool:
         due = self.eval_freq > 0 and self.n_calls % self.eval_freq == 0

@@ -130,8 +130,12 @@ def test_smoke_training_saves_reloads_and_evaluates(algo, tmp_path, capsys):
         assert rc == 0
         return json.loads((out / "config.json").read_text())["num_timesteps"]
     done = cfg["num_timesteps"]
+    history = np.load(out / "eval" / "evaluations.npz")["timesteps"]
     capsys.readouterr()
     resumed = resume(done + 64)
+    # the validation history goes on from the earlier session's
+    continued = np.load(out / "eval" / "evaluations.npz")["timesteps"]
+    assert len(continued) > len(history) and np.array_equal(continued[:len(history)], history)
     assert resumed >= done + 64
     printed = capsys.readouterr().out
     assert "resuming from" in printed
@@ -148,6 +152,15 @@ def test_smoke_training_saves_reloads_and_evaluates(algo, tmp_path, capsys):
         capsys.readouterr()
         assert resume(resumed + 64) >= resumed + 64
         assert "no replay buffer" in capsys.readouterr().out
+    # a new run in the same directory starts its validation afresh: with no validation before
+    # its end, model.zip is its own final weights, not the earlier run's best checkpoint
+    rc = train.main(["--algo", algo, "--timesteps", "16", "--n-envs", "2", "--out", str(out),
+                     "--episode-steps", "16", "--eval-episodes", "0", "--eval-freq", "1000000",
+                     "--val-episodes", "2", "--checkpoint-freq", "64", "--no-progress"])
+    assert rc == 0
+    cfg = json.loads((out / "config.json").read_text())
+    assert cfg["selected"] == "final weights" and not (out / "eval" / "best.json").exists()
+    assert (out / "model.zip").read_bytes() == (out / "last_model.zip").read_bytes()
 
 
 def test_validation_scores_every_checkpoint_on_the_same_scenarios(tmp_path):
