@@ -106,7 +106,7 @@ def main(argv: list[str] | None = None) -> int:
                 model.load_replay_buffer(buffer)
             else:
                 # SB3 would train at once on a nearly empty buffer: refill it first
-                model.learning_starts = model.num_timesteps + hyperparams(args.algo).get("learning_starts", 100)
+                model.learning_starts += model.num_timesteps
                 print(f"no replay buffer {buffer.name}: collecting {model.learning_starts - model.num_timesteps} "
                       "steps before the first gradient step")
     else:
@@ -123,9 +123,6 @@ def main(argv: list[str] | None = None) -> int:
     eval_env = VecNormalize(eval_env, norm_obs=True, norm_reward=False, training=False)
     per_env = max(1, args.n_envs)
     resumed = bool(args.resume and latest)
-    if not resumed:   # a new run in an old directory must not select the old run's best model
-        for name in (BEST_MODEL, BEST_VECNORMALIZE, BEST_INFO):
-            (out / "eval" / name).unlink(missing_ok=True)
     callbacks = CallbackList([
         ValidationCallback(eval_env, validation_seed=args.val_seed, resume=resumed, n_eval_episodes=args.val_episodes,
                            eval_freq=max(1, args.eval_freq // per_env), best_model_save_path=str(out / "eval"),

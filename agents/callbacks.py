@@ -38,7 +38,8 @@ class ValidationCallback(EvalCallback):
         ``best.json`` (mean validation return and step count of the best checkpoint).
     :param resume: continue an earlier run: its ``best.json`` is read, so a later checkpoint must
         beat the earlier best, and the validation history in ``log_path/evaluations.npz`` is
-        extended rather than overwritten. A new run (``False``) ignores both.
+        extended rather than overwritten. A new run (``False``) deletes an earlier run's best
+        files, so that they cannot be selected as this run's.
     Other arguments as for ``EvalCallback``.
     """
 
@@ -47,7 +48,10 @@ class ValidationCallback(EvalCallback):
         self.validation_seed = int(validation_seed)
         self.best_dir = Path(best_model_save_path)
         info = self.best_dir / BEST_INFO
-        if resume and info.exists():
+        if not resume:
+            for name in (BEST_MODEL, BEST_VECNORMALIZE, BEST_INFO):
+                (self.best_dir / name).unlink(missing_ok=True)
+        elif info.exists():
             self.best_mean_reward = float(json.loads(info.read_text())["mean_validation_return"])
         history = Path(f"{self.log_path}.npz") if self.log_path else None
         if resume and history is not None and history.exists():
