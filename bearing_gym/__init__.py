@@ -18,12 +18,14 @@ __all__ = ["default_params", "BearingParams", "BearingGeometry", "Material", "Ro
 def _register() -> None:
     import gymnasium
 
+    from .envs.tiers import EPISODE_STEPS
+
     if "BearingPreload-v0" not in gymnasium.registry:
         gymnasium.register(
             id="BearingPreload-v0",
             entry_point="bearing_gym.envs.bearing_preload:BearingPreloadEnv",
             vector_entry_point="bearing_gym.envs.vector:BearingPreloadVectorEnv",
-            max_episode_steps=250,
+            max_episode_steps=EPISODE_STEPS,
         )
 
 

@@ -11,9 +11,8 @@ they load SciPy or matplotlib lazily where needed:
 * :mod:`.lyapunov` -- largest Lyapunov exponent (Benettin), for ODEs and the Simulator;
 * :mod:`.linear` -- eigenvalues of the linearised equations at the static equilibrium;
 * :mod:`.sweeps` -- preload continuation, cold starts, stability maps on a pluggable executor;
-* :mod:`.window` -- numba window features used by the environment's step kernel.
 """
 
-from .signals import peak_to_peak, quasi_periodicity_index, rms, stroboscopic_samples
+from .signals import QPI_THRESHOLD, peak_to_peak, quasi_periodicity_index, rms, stroboscopic_samples
 
-__all__ = ["peak_to_peak", "rms", "stroboscopic_samples", "quasi_periodicity_index"]
+__all__ = ["peak_to_peak", "rms", "stroboscopic_samples", "quasi_periodicity_index", "QPI_THRESHOLD"]

@@ -14,6 +14,13 @@ Definition, for signals s_k(t) (k = x, y, z, ...) over a window:
 
 A signal with ``size`` below ``floor`` (a static rotor) gets index 0. The index is dimensionless
 and the same for any scaling of the signals.
+
+``QPI_THRESHOLD`` (0.1) is the one classification threshold of the package: a window with an
+index above it is quasi-periodic (or chaotic), otherwise period-1. Settled period-1 motion reads
+0.000-0.03 (the residue of transients and of ball-pass vibration); quasi-periodic motion 0.2-1.4
+(weakly quasi-periodic motion just past a Neimark-Sacker bifurcation, 0.15-0.4). The stability
+boundaries of the reproduction, the sweeps, the environment's reward and its ``quasi_periodic``
+flag and the evaluation all use it.
 """
 
 from __future__ import annotations
@@ -22,7 +29,9 @@ import math
 
 import numpy as np
 
-__all__ = ["peak_to_peak", "rms", "stroboscopic_samples", "quasi_periodicity_index"]
+__all__ = ["peak_to_peak", "rms", "stroboscopic_samples", "quasi_periodicity_index", "QPI_THRESHOLD"]
+
+QPI_THRESHOLD = 0.1
 
 
 def peak_to_peak(signal: np.ndarray, t: np.ndarray | None = None, after_s: float = 0.0) -> float:

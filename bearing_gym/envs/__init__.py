@@ -1,14 +1,23 @@
-"""Gymnasium environments: env = physics + scenario + actuator + observation + reward."""
+"""Gymnasium environments: env = physics + scenario + actuator + sensor + reward.
 
-from .actuator import PreloadActuator
+The parts are swappable (:mod:`.parts`); the difficulty tiers are presets of them
+(:mod:`.tiers`).
+"""
+
+from .actuator import Actuator, PreloadActuator
 from .bearing_preload import BearingPreloadEnv
-from .observation import FEATURE_NAMES, ObservationModel
-from .reward import REWARD_TERMS, RewardModel
-from .scenario import PRESETS, Scenario, ScenarioDistribution
+from .measurement import StepMeasurement
+from .observation import FEATURE_NAMES, ObservationModel, Sensor
+from .reward import REWARD_TERMS, Reward, VibrationFirstReward
+from .scenario import PAPER, FixedScenario, Scenario, ScenarioDistribution, ScenarioSampler
+from .tiers import CONTROL_DT_S, DEFAULT_TIER, EPISODE_STEPS, TIERS
 from .vector import BearingPreloadVectorEnv
 
-__all__ = ["BearingPreloadEnv", "BearingPreloadVectorEnv", "BearingPreloadSB3VecEnv", "PreloadActuator", "ObservationModel", "RewardModel", "Scenario",
-           "ScenarioDistribution", "PRESETS", "FEATURE_NAMES", "REWARD_TERMS"]
+__all__ = ["BearingPreloadEnv", "BearingPreloadVectorEnv", "BearingPreloadSB3VecEnv",
+           "Actuator", "PreloadActuator", "Sensor", "ObservationModel", "Reward",
+           "VibrationFirstReward", "StepMeasurement", "Scenario", "ScenarioDistribution",
+           "FixedScenario", "ScenarioSampler", "PAPER", "TIERS", "DEFAULT_TIER", "EPISODE_STEPS",
+           "CONTROL_DT_S", "FEATURE_NAMES", "REWARD_TERMS"]
 
 
 def __getattr__(name):  # the SB3 adapter imports torch: load it only on demand

@@ -4,19 +4,44 @@ An action a in [-1, 1] maps linearly to a set-point in [min_preload_n, max_prelo
 actuator (a hydraulic or piezo preload unit) follows the set-point as a first-order lag with
 time constant ``time_constant_s``, and its rate of change is limited to ``slew_rate_n_per_s``.
 The step kernel applies it every ``update_interval_s`` (1 ms) inside the control interval.
+
+An actuator model is any object with ``min_preload_n``, ``max_preload_n``,
+``update_interval_s``, ``setpoint_n(action) -> N`` (any mapping: a dead band, quantisation,
+a nonlinear valve characteristic), ``action_for(preload_n)`` (its inverse, for scripted
+policies) and ``as_array() -> [time_constant_s, slew_rate_n_per_s]``: the lag and the rate
+limit the kernel applies (the dynamics run inside the numba kernel, so their form is this
+first-order lag with a rate limit; the numbers are the actuator's).
 """
 
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, field
+from typing import Protocol, runtime_checkable
 
 import numpy as np
 from numba import njit
 
 from bearing_gym.params import _check_real
 
-__all__ = ["PreloadActuator", "actuator_update"]
+from .parts import part_entry_point
+
+__all__ = ["Actuator", "PreloadActuator", "actuator_update"]
+
+
+@runtime_checkable
+class Actuator(Protocol):
+    """What the env needs of an actuator model (see the module docstring)."""
+
+    min_preload_n: float
+    max_preload_n: float
+    update_interval_s: float
+
+    def setpoint_n(self, action: np.ndarray) -> np.ndarray: ...
+
+    def action_for(self, preload_n: float) -> float: ...
+
+    def as_array(self) -> np.ndarray: ...
 
 
 @dataclass(frozen=True)
@@ -26,6 +51,7 @@ class PreloadActuator:
     time_constant_s: float = 0.02
     slew_rate_n_per_s: float = 20000.0
     update_interval_s: float = 1e-3
+    entry_point: str = field(default="", init=False)
 
     def __post_init__(self) -> None:
         lo = _check_real("min_preload_n", self.min_preload_n, 0.0, 1e5)
@@ -33,6 +59,7 @@ class PreloadActuator:
         _check_real("time_constant_s", self.time_constant_s, 0.0, 10.0)
         _check_real("slew_rate_n_per_s", self.slew_rate_n_per_s, 0.0, 1e9, low_open=True)
         _check_real("update_interval_s", self.update_interval_s, 0.0, 1.0, low_open=True)
+        part_entry_point(self)
 
     def setpoint_n(self, action: np.ndarray) -> np.ndarray:
         """Set-point (N) for actions in [-1, 1] (already validated by the env)."""

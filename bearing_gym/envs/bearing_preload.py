@@ -13,10 +13,9 @@ from gymnasium import spaces
 
 from bearing_gym.params import BearingParams
 
-from .actuator import PreloadActuator
-from .common import check_actions, configure, initial_observation, reset_one, step_outputs
-from .observation import ObservationModel
-from .reward import RewardModel
+from .common import (DEFAULTS, check_actions, configure, measurement, observe, reset_envs,
+                     reset_info, step_outputs)
+from .features import F_QPI
 
 __all__ = ["BearingPreloadEnv"]
 
@@ -118,15 +117,14 @@ class BearingPreloadEnv(gym.Env):
 
     metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 10}
 
-    def __init__(self, scenario: Any = "randomized", control_dt_s: float = 0.02,
-                 actuator: PreloadActuator | None = None, reward: RewardModel | None = None,
-                 observation: ObservationModel | None = None, params: BearingParams | None = None,
-                 episode_steps: int = 250, render_mode: str | None = None,
-                 obs_noise_std: float | None = None, render_dir: str | os.PathLike | None = None):
+    def __init__(self, tier: str = DEFAULTS["tier"], scenario: Any = None, actuator: Any = None,
+                 observation: Any = None, reward: Any = None, params: BearingParams | None = None,
+                 control_dt_s: float = DEFAULTS["control_dt_s"], episode_steps: int = DEFAULTS["episode_steps"],
+                 render_mode: str | None = None, render_dir: str | os.PathLike | None = None):
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode must be None or one of {self.metadata['render_modes']}, got {render_mode!r}")
-        configure(self, scenario, control_dt_s, actuator, reward, observation, params,
-                  episode_steps, obs_noise_std, num_envs=1)
+        configure(self, tier, scenario, actuator, observation, reward, params, control_dt_s,
+                  episode_steps, num_envs=1)
         self.action_space = spaces.Box(-1.0, 1.0, shape=(1,), dtype=np.float32)
         self.observation_space = self.observation_model.space
         self.render_mode = render_mode
@@ -138,20 +136,21 @@ class BearingPreloadEnv(gym.Env):
         self._poincare: deque = deque(maxlen=2000)
         self._idx = np.array([0])
         self._active = np.array([True])
+        self._steps = 0
         self.scenario = None
 
     # ------------------------------------------------------------------------------------------
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         super().reset(seed=seed)
-        self.scenario = reset_one(self._batch, 0, self.np_random, self.scenario_dist,
-                                  self.episode_steps * self.control_dt_s, options)
+        self.scenario = reset_envs(self, self._idx, [self.np_random], options)[0]
+        self._steps = 0
         self._history.clear()
         self._poincare.clear()
-        obs = initial_observation(self._batch, self._idx, self.observation_model, [self.np_random])
         b = self._batch
-        info = {"preload_n": float(b.preload[0]), "setpoint_n": float(b.setpoint[0]),
-                "shaft_speed_rpm": float(b.omega()[0] * 30.0 / np.pi),
-                "radial_load_n": float(b.radial_load_n()[0]), "t": 0.0}
+        m = measurement(b, self._idx, b.preload[self._idx].copy(), np.array([self.episode_steps]),
+                        b.start_failed[self._idx].copy())
+        obs = observe(self, m, self._idx, [self.np_random])
+        info = reset_info(b, 0, m, 0)
         if self.render_mode == "human":
             self._render_human()
         return obs[0], info
@@ -163,8 +162,9 @@ class BearingPreloadEnv(gym.Env):
         b = self._batch
         before = b.preload[self._idx].copy()
         b.step(self.actuator.setpoint_n(a), self._active)
-        obs, reward, terminated, infos = step_outputs(b, self._idx, before, self.observation_model,
-                                                      self.reward_model, [self.np_random])
+        self._steps += 1
+        steps_left = np.array([max(self.episode_steps - self._steps, 0)])
+        obs, reward, terminated, infos = step_outputs(self, self._idx, before, steps_left, [self.np_random])
         if self.render_mode is not None:
             self._remember()
         if self.render_mode == "human":
@@ -176,7 +176,7 @@ class BearingPreloadEnv(gym.Env):
         b = self._batch
         w = b.window(0)
         self._history.append((float(b.t_episode[0]), float(b.preload[0]), float(b.setpoint[0]),
-                              float(b.feats[0, 8])))
+                              float(b.feats[0, F_QPI])))
         if len(w):
             self._orbit = w[:, 1:4].copy()
             from bearing_gym.physics.rotor import R_SHAFT, R_X

@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import dataclasses
-from collections.abc import Mapping
+from collections.abc import Mapping, Sequence
 from typing import Any
 
 import numpy as np
@@ -11,9 +11,10 @@ import numpy as np
 from bearing_gym.physics.rotor import ST_OK
 
 from .core import PreloadBatch
-from .observation import ObservationModel
-from .reward import REWARD_TERMS, RewardModel
-from .scenario import Scenario
+from .measurement import StepMeasurement
+from .parts import resolve_part
+from .scenario import FixedScenario, Scenario, check_pinned
+from .tiers import CONTROL_DT_S, DEFAULT_TIER, EPISODE_STEPS, TIERS, tier_parts
 
 _TERMINATION_TEXT = {
     1: "ball equilibrium did not converge",
@@ -22,34 +23,59 @@ _TERMINATION_TEXT = {
     4: "integrator diverged (displacement beyond limit or not finite)",
 }
 
+_REQUIRED = {
+    "scenario": ("sample",),
+    "actuator": ("min_preload_n", "max_preload_n", "update_interval_s", "setpoint_n", "action_for", "as_array"),
+    "observation": ("space", "make_state", "reset_state", "__call__"),
+    "reward": ("term_names", "__call__"),
+}
 
-def configure(env, scenario, control_dt_s: float, actuator, reward, observation, params,
-              episode_steps: int, obs_noise_std, num_envs: int) -> None:
-    """Set the components every preload env has (single or vector) on ``env``: scenario
-    distribution, actuator, reward and observation models, the physics batch and the spaces'
-    single-env shapes. Validates the arguments shared by both envs."""
-    from bearing_gym.params import _check_real
 
-    from .actuator import PreloadActuator
-    from .scenario import scenario_distribution
+def _scenario_part(value: Any, default: Any) -> Any:
+    if isinstance(value, str):
+        if value not in TIERS:
+            raise ValueError(f"unknown scenario preset {value!r}; valid: {', '.join(TIERS)} (the tiers' scenarios)")
+        return TIERS[value]["scenario"]
+    if isinstance(value, Scenario):
+        return FixedScenario(value)
+    return resolve_part("scenario", value, default, _REQUIRED["scenario"])
+
+
+def configure(env, tier: str, scenario, actuator, observation, reward, params,
+              control_dt_s: float, episode_steps: int, num_envs: int) -> None:
+    """Set the parts every preload env has (single or vector) on ``env``: the tier's parts,
+    replaced by any given explicitly, the physics batch and the single-env spaces."""
+    from bearing_gym.params import BearingParams, _check_real
+    if not isinstance(tier, str):
+        raise ValueError(f"tier must be one of {', '.join(TIERS)}, got {tier!r}")
+    parts = tier_parts(tier)
     _check_real("control_dt_s", control_dt_s, 1e-3, 1.0)
     if isinstance(episode_steps, bool) or not isinstance(episode_steps, (int, np.integer)) or episode_steps < 1:
         raise ValueError(f"episode_steps must be an integer >= 1, got {episode_steps!r}")
-    env.scenario_dist = scenario_distribution(scenario)
-    env.actuator = actuator or PreloadActuator()
-    env.reward_model = reward or RewardModel()
-    obs_model = observation or ObservationModel()
-    if obs_noise_std is not None:
-        obs_model = ObservationModel(noise_std=_check_real("obs_noise_std", obs_noise_std, 0.0, 10.0))
-    env.observation_model = obs_model
+    if params is not None and not isinstance(params, BearingParams):
+        raise TypeError(f"params must be a bearing_gym.BearingParams (default_params(...)), got {type(params).__name__}")
+    env.tier = tier
+    env.scenario_dist = _scenario_part(scenario, parts["scenario"])
+    env.actuator = resolve_part("actuator", actuator, parts["actuator"], _REQUIRED["actuator"])
+    env.observation_model = resolve_part("observation", observation, parts["observation"], _REQUIRED["observation"])
+    env.reward_model = resolve_part("reward", reward, parts["reward"], _REQUIRED["reward"])
     env.episode_steps = int(episode_steps)
     env._batch = PreloadBatch(num_envs, params, control_dt_s, env.actuator)
     env.control_dt_s = env._batch.control_dt_s
+    env._sensor_state = env.observation_model.make_state(num_envs)
 
 
-def check_actions(actions: np.ndarray, n: int) -> np.ndarray:
-    """Validate a batch of actions (n, 1) in [-1, 1]; raise ValueError naming the problem."""
-    a = np.asarray(actions, dtype=np.float64)
+DEFAULTS = {"tier": DEFAULT_TIER, "control_dt_s": CONTROL_DT_S, "episode_steps": EPISODE_STEPS}
+
+
+def check_actions(actions: Any, n: int) -> np.ndarray:
+    """Validate a batch of actions (n, 1) in [-1, 1]; raise naming the problem."""
+    if isinstance(actions, (str, bytes)) or actions is None:
+        raise TypeError(f"action must be a number or an array of numbers in [-1, 1], got {actions!r}")
+    try:
+        a = np.asarray(actions, dtype=np.float64)
+    except (TypeError, ValueError):
+        raise TypeError(f"action must be a number or an array of numbers in [-1, 1], got {actions!r}") from None
     if a.size != n:
         raise ValueError(f"action must have {n} element(s) (shape ({n}, 1) or ({n},) for a batch), got shape {a.shape}")
     a = a.reshape(n)
@@ -60,63 +86,73 @@ def check_actions(actions: np.ndarray, n: int) -> np.ndarray:
     return a
 
 
-def reset_one(batch: PreloadBatch, b: int, rng: np.random.Generator, dist, episode_s: float,
-              options: Mapping[str, Any] | None) -> Scenario:
-    """Draw (or take from options) env b's scenario and start it at its static equilibrium."""
-    opts = dict(options or {})
-    if "scenario" in opts:
-        sc = opts.pop("scenario")
-        if not isinstance(sc, Scenario):
-            raise ValueError(f"options['scenario'] must be a Scenario, got {type(sc).__name__}")
-        scenario = dataclasses.replace(sc, **dist_pinned(opts)) if opts else sc
-    else:
-        scenario = dist.sample(rng, episode_s, opts or None)
-    batch.load(b, scenario)
-    return scenario
+def reset_envs(env, idx: Sequence[int], rngs: Sequence[np.random.Generator],
+               options: Mapping[str, Any] | None) -> list[Scenario]:
+    """Draw (or take from options) the scenarios of envs ``idx``, load them and settle them
+    together (one batched warm-up)."""
+    batch: PreloadBatch = env._batch
+    episode_s = env.episode_steps * env.control_dt_s
+    scenarios = []
+    for b, rng in zip(idx, rngs):
+        opts = dict(options or {})
+        if "scenario" in opts:
+            sc = opts.pop("scenario")
+            if not isinstance(sc, Scenario):
+                raise ValueError(f"options['scenario'] must be a Scenario, got {type(sc).__name__}")
+            scenario = dataclasses.replace(sc, **check_pinned(opts)) if opts else sc
+        else:
+            scenario = env.scenario_dist.sample(rng, episode_s, opts or None)
+        batch.load(int(b), scenario)
+        env.observation_model.reset_state(env._sensor_state, int(b), rng)
+        scenarios.append(scenario)
+    batch.settle(np.asarray(idx, dtype=np.int64))
+    return scenarios
 
 
-def dist_pinned(opts: Mapping[str, Any]) -> dict[str, Any]:
-    from .scenario import _check_pinned
-    return _check_pinned(opts)
-
-
-def initial_observation(batch: PreloadBatch, idx: np.ndarray, obs_model: ObservationModel,
-                        rngs) -> np.ndarray:
-    """Observation at reset: no motion yet (interval features zero), the static offsets of the
-    equilibrium the rotor starts at, actual preload and speed."""
-    from bearing_gym.analysis.window import F_CAGE_MEAN, F_MEAN_X
-    from bearing_gym.physics.rotor import S_CAGE_SPEED
-    feats = np.zeros((len(idx), batch.feats.shape[1]))
-    feats[:, F_CAGE_MEAN] = batch.scal[idx, S_CAGE_SPEED]
-    feats[:, F_MEAN_X:F_MEAN_X + 3] = batch.X[idx, 0:3]
-    a = batch.actuator
-    return obs_model.build(feats, batch.preload[idx], batch.setpoint[idx], batch.omega()[idx],
-                           batch.gamma_cos_a0, a.min_preload_n, a.max_preload_n, rngs)
-
-
-def step_outputs(batch: PreloadBatch, idx: np.ndarray, preload_before: np.ndarray,
-                 obs_model: ObservationModel, reward_model: RewardModel, rngs):
-    """Observations, rewards, terminations and infos of envs ``idx`` after a kernel step."""
+def measurement(batch: PreloadBatch, idx: np.ndarray, preload_before: np.ndarray,
+                steps_left: np.ndarray, terminated: np.ndarray) -> StepMeasurement:
+    """The :class:`StepMeasurement` of envs ``idx`` after their last kernel step (or settle)."""
     a = batch.actuator
     omega = batch.omega()[idx]
+    return StepMeasurement(
+        features=batch.feats[idx].copy(), preload_n=batch.preload[idx].copy(),
+        preload_before_n=np.asarray(preload_before, dtype=float), setpoint_n=batch.setpoint[idx].copy(),
+        shaft_speed_rad_s=omega, radial_load_n=batch.radial_load_n()[idx],
+        kinematic_cage_speed_rad_s=0.5 * omega * (1.0 - batch.gamma_cos_a0),
+        t_s=batch.t_episode[idx].copy(), steps_left=np.asarray(steps_left),
+        terminated=np.asarray(terminated, dtype=bool),
+        preload_range_n=(float(a.min_preload_n), float(a.max_preload_n)))
+
+
+def observe(env, m: StepMeasurement, idx: np.ndarray, rngs) -> np.ndarray:
+    return env.observation_model(m, env._sensor_state, np.asarray(idx), rngs)
+
+
+def reset_info(batch: PreloadBatch, b: int, m: StepMeasurement, i: int) -> dict[str, Any]:
+    """The info of a reset: the operating point, the preload and the settled motion."""
+    return {"preload_n": float(batch.preload[b]), "setpoint_n": float(batch.setpoint[b]),
+            "shaft_speed_rpm": float(m.shaft_speed_rad_s[i] * 30.0 / np.pi),
+            "radial_load_n": float(m.radial_load_n[i]), "qpi": float(m.qpi[i]),
+            "quasi_periodic": bool(m.quasi_periodic[i]), "nonsync_rms_um": float(m.nonsync_rms_m[i] * 1e6),
+            "t": 0.0}
+
+
+def step_outputs(env, idx: np.ndarray, preload_before: np.ndarray, steps_left: np.ndarray, rngs):
+    """Observations, rewards, terminations and infos of envs ``idx`` after a kernel step."""
+    batch: PreloadBatch = env._batch
     status = batch.status[idx]
-    feats = batch.feats[idx]
-    obs = obs_model.build(feats, batch.preload[idx], batch.setpoint[idx], omega,
-                          batch.gamma_cos_a0, a.min_preload_n, a.max_preload_n, rngs)
-    qpi = feats[:, 8]
-    terms = reward_model.terms(qpi, batch.preload[idx], preload_before, omega,
-                               batch.radial_load_n()[idx])
-    reward = sum(terms[k] for k in REWARD_TERMS)
-    terminated = status != ST_OK
-    reward = np.where(terminated, reward - reward_model.termination_penalty, reward)
+    terminated = (status != ST_OK) | batch.start_failed[idx]
+    m = measurement(batch, idx, preload_before, steps_left, terminated)
+    obs = observe(env, m, idx, rngs)
+    reward, terms = env.reward_model(m)
     infos = []
     for i, b in enumerate(idx):
-        info = {f"reward_{k}": float(terms[k][i]) for k in REWARD_TERMS}
-        info.update(preload_n=float(batch.preload[b]), setpoint_n=float(batch.setpoint[b]),
-                    shaft_speed_rpm=float(omega[i] * 30.0 / np.pi),
-                    radial_load_n=float(batch.radial_load_n()[b]), qpi=float(qpi[i]),
-                    quasi_periodic=bool(qpi[i] > 0.3), t=float(batch.t_episode[b]))
+        info = {f"reward_{k}": float(terms[k][i]) for k in env.reward_model.term_names}
+        info.update(reset_info(batch, int(b), m, i))
+        info["t"] = float(batch.t_episode[b])
         if terminated[i]:
-            info["termination_reason"] = _TERMINATION_TEXT.get(int(status[i]), f"status {int(status[i])}")
+            code = int(status[i])
+            info["termination_reason"] = ("the start diverged at this operating point" if batch.start_failed[b]
+                                          else _TERMINATION_TEXT.get(code, f"status {code}"))
         infos.append(info)
-    return obs, reward.astype(np.float64), terminated, infos
+    return obs, np.asarray(reward, dtype=np.float64), terminated, infos

@@ -6,33 +6,42 @@ radial-load step) from the scenario schedule, moves the preload by the actuator 
 runs the Newmark integrator (:func:`bearing_gym.physics.rotor.integrate`); at the end it
 computes the window features (:func:`bearing_gym.analysis.window.window_features`).
 
-Schedule row (``Scenario.schedule_array``): 0 start speed, 1 end speed (rad/s), 2 ramp start,
-3 ramp end (s), 4-5 radial load (x, y) before the step, 6-7 after, 8 step time (s).
+Schedule row (``Scenario.schedule_array``): the number of speed knots, then (t, omega) pairs
+(``MAX_EVENTS`` slots), then the number of load steps, then (t, F_x, F_y) triples.
 """
 
 from __future__ import annotations
 
 from numba import njit, prange
 
-from bearing_gym.analysis.window import window_features
+from .features import window_features
 from bearing_gym.physics.layout import I_DT, I_OMEGA, I_PX, I_PY, I_PZ
 from bearing_gym.physics.rotor import integrate
 
 from .actuator import actuator_update
+from .scenario import MAX_EVENTS
 
 
 @njit(cache=True, inline="always")
 def operating_point(row, t):
-    """Shaft speed (rad/s) and radial load (x, y) of a schedule row at time t."""
-    if t <= row[2] or row[3] <= row[2]:
-        omega = row[0] if t <= row[2] else row[1]
-    elif t >= row[3]:
-        omega = row[1]
-    else:
-        omega = row[0] + (t - row[2]) / (row[3] - row[2]) * (row[1] - row[0])
-    if t < row[8]:
-        return omega, row[4], row[5]
-    return omega, row[6], row[7]
+    """Shaft speed (rad/s, piecewise linear through the knots) and radial load (x, y; piecewise
+    constant) of a schedule row at time t."""
+    n_speed = int(row[0])
+    omega = row[2 * n_speed]                      # after the last knot
+    for k in range(n_speed - 1):
+        t0 = row[1 + 2 * k]
+        t1 = row[3 + 2 * k]
+        if t < t1:
+            w0 = row[2 + 2 * k]
+            omega = w0 + (max(t, t0) - t0) / (t1 - t0) * (row[4 + 2 * k] - w0)
+            break
+    base = 1 + 2 * MAX_EVENTS
+    n_load = int(row[base])
+    j = 0
+    for k in range(1, n_load):
+        if t >= row[base + 1 + 3 * k]:
+            j = k
+    return omega, row[base + 2 + 3 * j], row[base + 3 + 3 * j]
 
 
 @njit(cache=True)
@@ -60,35 +69,28 @@ def step_one(prm, race_wav, ball_wav, ball_phase, ball_size, X, V, A, scal, psi_
     return st, rows_total
 
 
-@njit(cache=True, parallel=True)
-def step_batch(active, prm, race_wav, n_race, ball_wav, n_ball, ball_phase, ball_size, X, V, A,
+def _compile_step_batch(name: str, parallel: bool):
+    """The batch kernel compiled once per threading mode from one body (its own name each, so
+    the two never share a cache entry)."""
+    def kernel(active, prm, race_wav, n_race, ball_wav, n_ball, ball_phase, ball_size, X, V, A,
                scal, psi_b, ball_v, ball_out, env_state, schedule, act, n_sub, steps_per_sub, rec,
                rows_out, status_out, feats):
-    """Advance each env ``b`` with ``active[b]`` by one control interval (prange over envs).
-    ``env_state[b]`` = [preload, setpoint, t_episode]. Writes rows_out, status_out (0 = ok)
-    and feats."""
-    n_env = X.shape[0]
-    for b in prange(n_env):
-        if active[b]:
-            st, rows = step_one(prm[b], race_wav[b, :n_race[b]], ball_wav[b, :n_ball[b]],
-                                ball_phase[b, :, :n_ball[b]], ball_size[b], X[b], V[b], A[b],
-                                scal[b], psi_b[b], ball_v[b], ball_out[b], env_state[b],
-                                schedule[b], act, n_sub, steps_per_sub, rec[b], feats[b])
-            status_out[b] = st
-            rows_out[b] = rows
+        n_env = X.shape[0]
+        for b in prange(n_env):
+            if active[b]:
+                st, rows = step_one(prm[b], race_wav[b, :n_race[b]], ball_wav[b, :n_ball[b]],
+                                    ball_phase[b, :, :n_ball[b]], ball_size[b], X[b], V[b], A[b],
+                                    scal[b], psi_b[b], ball_v[b], ball_out[b], env_state[b],
+                                    schedule[b], act, n_sub, steps_per_sub, rec[b], feats[b])
+                status_out[b] = st
+                rows_out[b] = rows
+    kernel.__name__ = kernel.__qualname__ = name
+    return njit(cache=True, parallel=parallel)(kernel)
 
 
-@njit(cache=True)
-def step_batch_serial(active, prm, race_wav, n_race, ball_wav, n_ball, ball_phase, ball_size, X, V,
-                      A, scal, psi_b, ball_v, ball_out, env_state, schedule, act, n_sub,
-                      steps_per_sub, rec, rows_out, status_out, feats):
-    """:func:`step_batch` without threads (same ``step_one`` per env): for a batch of one, where
-    a thread pool only costs time when other processes share the cores."""
-    for b in range(X.shape[0]):
-        if active[b]:
-            st, rows = step_one(prm[b], race_wav[b, :n_race[b]], ball_wav[b, :n_ball[b]],
-                                ball_phase[b, :, :n_ball[b]], ball_size[b], X[b], V[b], A[b],
-                                scal[b], psi_b[b], ball_v[b], ball_out[b], env_state[b],
-                                schedule[b], act, n_sub, steps_per_sub, rec[b], feats[b])
-            status_out[b] = st
-            rows_out[b] = rows
+#: Advance each env ``b`` with ``active[b]`` by one control interval (prange over envs);
+#: ``env_state[b]`` = [preload, setpoint, t_episode]; writes rows_out, status_out (0 = ok), feats.
+step_batch = _compile_step_batch("step_batch", parallel=True)
+#: The same without threads (prange is range without parallel=True): for a batch of one, where a
+#: thread pool only costs time when other processes share the cores.
+step_batch_serial = _compile_step_batch("step_batch_serial", parallel=False)

@@ -13,10 +13,8 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 
 from bearing_gym.params import BearingParams
 
-from .actuator import PreloadActuator
-from .common import check_actions, configure, initial_observation, reset_one, step_outputs
-from .observation import ObservationModel
-from .reward import RewardModel
+from .common import (DEFAULTS, check_actions, configure, measurement, observe, reset_envs,
+                     step_outputs)
 
 __all__ = ["BearingPreloadVectorEnv"]
 
@@ -34,19 +32,19 @@ class BearingPreloadVectorEnv(VectorEnv):
 
     metadata = {"render_modes": [], "autoreset_mode": AutoresetMode.NEXT_STEP}
 
-    def __init__(self, num_envs: int = 2, scenario: Any = "randomized", control_dt_s: float = 0.02,
-                 actuator: PreloadActuator | None = None, reward: RewardModel | None = None,
-                 observation: ObservationModel | None = None, params: BearingParams | None = None,
-                 episode_steps: int = 250, max_episode_steps: int | None = 250,
-                 num_threads: int | None = None, obs_noise_std: float | None = None,
-                 render_mode: str | None = None):
+    def __init__(self, num_envs: int = 2, tier: str = DEFAULTS["tier"], scenario: Any = None,
+                 actuator: Any = None, observation: Any = None, reward: Any = None,
+                 params: BearingParams | None = None, control_dt_s: float = DEFAULTS["control_dt_s"],
+                 episode_steps: int = DEFAULTS["episode_steps"],
+                 max_episode_steps: int | None = DEFAULTS["episode_steps"],
+                 num_threads: int | None = None, render_mode: str | None = None):
         if render_mode is not None:
             raise ValueError("the vector env does not render; render a single BearingPreloadEnv")
         if isinstance(num_envs, bool) or not isinstance(num_envs, (int, np.integer)) or num_envs < 1:
             raise ValueError(f"num_envs must be an integer >= 1, got {num_envs!r}")
         self.num_envs = int(num_envs)
-        configure(self, scenario, control_dt_s, actuator, reward, observation, params,
-                  episode_steps, obs_noise_std, num_envs=self.num_envs)
+        configure(self, tier, scenario, actuator, observation, reward, params, control_dt_s,
+                  episode_steps, num_envs=self.num_envs)
         self.max_episode_steps = max_episode_steps
         if num_threads is not None and not (1 <= num_threads <= numba.config.NUMBA_NUM_THREADS):
             raise ValueError(f"num_threads must be in [1, {numba.config.NUMBA_NUM_THREADS}], got {num_threads}")
@@ -76,11 +74,13 @@ class BearingPreloadVectorEnv(VectorEnv):
                 self._rngs[i], _ = seeding.np_random(s)
 
     def _reset_envs(self, idx: np.ndarray, options: dict | None) -> np.ndarray:
-        for b in idx:
-            reset_one(self._batch, int(b), self._rngs[b], self.scenario_dist,
-                      self.episode_steps * self.control_dt_s, options)
-            self._elapsed[b] = 0
-        return initial_observation(self._batch, idx, self.observation_model, [self._rngs[b] for b in idx])
+        rngs = [self._rngs[b] for b in idx]
+        reset_envs(self, idx, rngs, options)
+        self._elapsed[idx] = 0
+        b = self._batch
+        m = measurement(b, idx, b.preload[idx].copy(), np.full(len(idx), self.episode_steps),
+                        b.start_failed[idx].copy())
+        return observe(self, m, idx, rngs)
 
     def _step_envs(self, actions: np.ndarray, idx: np.ndarray):
         """Step envs ``idx`` with their actions; returns obs, reward, terminated, truncated, infos."""
@@ -92,9 +92,9 @@ class BearingPreloadVectorEnv(VectorEnv):
         if self.num_threads is not None:
             numba.set_num_threads(self.num_threads)
         self._batch.step(setpoints, active)
-        obs, rew, term, infos = step_outputs(self._batch, idx, before, self.observation_model,
-                                             self.reward_model, [self._rngs[b] for b in idx])
         self._elapsed[idx] += 1
+        steps_left = np.maximum(self.episode_steps - self._elapsed[idx], 0)
+        obs, rew, term, infos = step_outputs(self, idx, before, steps_left, [self._rngs[b] for b in idx])
         if self.max_episode_steps is None:
             trunc = np.zeros(len(idx), dtype=bool)
         else:

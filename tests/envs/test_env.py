@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import bearing_gym  # noqa: F401  (registers the env)
-from bearing_gym.envs import BearingPreloadEnv, Scenario
+from bearing_gym.envs import EPISODE_STEPS, BearingPreloadEnv, Scenario
 
 GOLDEN = Path(__file__).resolve().parents[1] / "data" / "paper_golden.npz"
 
@@ -46,7 +46,7 @@ def test_sb3_env_checker():
 
 def test_make_by_module_path_and_spaces():
     env = gym.make("bearing_gym:BearingPreload-v0")
-    assert env.spec.max_episode_steps == 250
+    assert env.spec.max_episode_steps == EPISODE_STEPS
     assert env.action_space == gym.spaces.Box(-1, 1, (1,), np.float32)
     assert env.observation_space.dtype == np.float32
     assert np.all(np.isfinite(env.observation_space.low)) and np.all(np.isfinite(env.observation_space.high))
@@ -89,7 +89,7 @@ def test_info_reports_each_reward_term():
     env = BearingPreloadEnv(scenario="paper")
     env.reset(seed=0)
     _, r, _, _, info = env.step(np.array([0.0], dtype=np.float32))
-    terms = [info[k] for k in ("reward_vibration", "reward_heat", "reward_fatigue", "reward_preload_change")]
+    terms = [info[k] for k in ("reward_vibration", "reward_heat", "reward_fatigue", "reward_actuation", "reward_termination")]
     assert r == pytest.approx(sum(terms), rel=1e-12)
     assert all(t <= 0 for t in terms)
 
@@ -119,7 +119,7 @@ def test_reset_options_pin_the_scenario():
                                          "clearance_m": 1e-5, "initial_preload_n": 1200.0})
     assert info["shaft_speed_rpm"] == pytest.approx(15000.0)
     assert info["preload_n"] == 1200.0 and env.scenario.clearance_m == 1e-5
-    sc = Scenario(speed_start_rpm=12000.0, speed_end_rpm=12000.0)
+    sc = Scenario(speed_profile=((0.0, 12000.0),))
     _, info = env.reset(options={"scenario": sc})
     assert env.scenario == sc
 
@@ -127,6 +127,10 @@ def test_reset_options_pin_the_scenario():
 def test_bad_constructor_arguments():
     with pytest.raises(ValueError, match="scenario preset"):
         BearingPreloadEnv(scenario="moon")
+    with pytest.raises(ValueError, match="unknown tier 'moon'"):
+        BearingPreloadEnv(tier="moon")
+    with pytest.raises(TypeError, match="reward must provide term_names"):
+        BearingPreloadEnv(reward=object())
     with pytest.raises(ValueError, match="control_dt_s"):
         BearingPreloadEnv(control_dt_s=0.0)
     with pytest.raises(ValueError, match="render_mode"):
