@@ -128,10 +128,14 @@ def test_num_threads_applies_to_the_kernel_call_only():
         return kernel_step(*args)
 
     v._batch.step = spy
+    callers = numba.get_num_threads()
     numba.set_num_threads(2)
-    v.step(np.zeros((2, 1), dtype=np.float32))
-    assert seen == [1]                                   # the kernel ran with the env's count
-    assert numba.get_num_threads() == 2                  # and the caller's count is back
+    try:
+        v.step(np.zeros((2, 1), dtype=np.float32))
+        assert seen == [1]                               # the kernel ran with the env's count
+        assert numba.get_num_threads() == 2              # and the caller's count is back
+    finally:
+        numba.set_num_threads(callers)
 
 
 def test_gymnasium_checkers_with_rendering(monkeypatch, tmp_path):
@@ -145,6 +149,16 @@ def test_gymnasium_checkers_with_rendering(monkeypatch, tmp_path):
         gym.make("BearingPreload-v0", scenario="paper", render_mode="rgb_array", max_episode_steps=2),
         gym.wrappers.TimeLimit(BearingPreloadEnv(scenario="paper", render_mode="rgb_array"), 2),
         num_steps=3)
+
+
+def test_sb3_env_checker_with_rendering():
+    import warnings
+
+    from stable_baselines3.common.env_checker import check_env
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", UserWarning)      # any finding fails the test
+        check_env(BearingPreloadEnv(scenario="paper", render_mode="rgb_array"), warn=True,
+                  skip_render_check=False)
 
 
 def test_sb3_adapter_equals_sb3_dummy_vec_env():
