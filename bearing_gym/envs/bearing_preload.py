@@ -15,7 +15,7 @@ from bearing_gym.params import BearingParams
 
 from .common import (DEFAULTS, check_actions, configure, measurement, observe, reset_envs,
                      reset_info, step_outputs)
-from .features import F_QPI
+from .rendering import FRAME_DPI, FRAME_SIZE_IN, draw_frame, record_interval, rgb_frame
 
 __all__ = ["BearingPreloadEnv"]
 
@@ -173,55 +173,18 @@ class BearingPreloadEnv(gym.Env):
 
     # ------------------------------------------------------------------------------------------
     def _remember(self) -> None:
-        b = self._batch
-        w = b.window(0)
-        self._history.append((float(b.t_episode[0]), float(b.preload[0]), float(b.setpoint[0]),
-                              float(b.feats[0, F_QPI])))
-        if len(w):
-            self._orbit = w[:, 1:4].copy()
-            from bearing_gym.physics.rotor import R_SHAFT, R_X
-            turns = np.floor((w[:, R_SHAFT] - w[0, R_SHAFT]) / (2 * np.pi))
-            first = np.flatnonzero(np.diff(turns) > 0) + 1
-            for r in first:
-                self._poincare.append((w[r, R_X], w[r, R_X + 2]))
+        orbit = record_interval(self._batch, 0, self._history, self._poincare)
+        if orbit is not None:
+            self._orbit = orbit
 
     def render(self):
         if self.render_mode != "rgb_array":
             return None
-        import matplotlib
-        matplotlib.use("Agg", force=False)
-        from matplotlib.backends.backend_agg import FigureCanvasAgg
-        from matplotlib.figure import Figure
-
-        fig = Figure(figsize=(9, 3), dpi=80)
-        canvas = FigureCanvasAgg(fig)
-        self._draw(fig)
-        canvas.draw()
-        img = np.asarray(canvas.buffer_rgba())[:, :, :3].copy()
-        return img
+        return rgb_frame(getattr(self, "_orbit", None), self._poincare, self._history)
 
     def _draw(self, fig) -> None:
         """The three panels of a frame, drawn on ``fig``."""
-        ax1, ax2, ax3 = fig.subplots(1, 3)
-        orbit = getattr(self, "_orbit", None)
-        if orbit is not None and len(self._history):
-            ax1.plot(orbit[:, 0] * 1e6, orbit[:, 1] * 1e6, lw=0.6)
-        ax1.set(title="orbit (last interval)", xlabel="x (um)", ylabel="y (um)")
-        if self._poincare:
-            p = np.array(self._poincare)
-            ax2.plot(p[:, 0] * 1e6, p[:, 1] * 1e6, ".", ms=2)
-        ax2.set(title="Poincare (once per turn)", xlabel="x (um)", ylabel="z (um)")
-        if self._history:
-            h = np.array(self._history)
-            ax3.plot(h[:, 0], h[:, 1], label="preload")
-            ax3.plot(h[:, 0], h[:, 2], "--", label="set-point")
-            ax3.legend(fontsize=7)
-            lo, hi = float(h[:, 1:3].min()), float(h[:, 1:3].max())
-            pad = max(50.0, 0.1 * (hi - lo))      # newtons: no 1e-6 N offset axis for a flat trace
-            ax3.set_ylim(lo - pad, hi + pad)
-            ax3.ticklabel_format(axis="y", useOffset=False)
-        ax3.set(title="preload", xlabel="t (s)", ylabel="N")
-        fig.tight_layout()
+        draw_frame(fig, getattr(self, "_orbit", None), self._poincare, self._history)
 
     # ------------------------------------------------------------------------------------------
     def _render_human(self) -> None:
@@ -249,7 +212,7 @@ class BearingPreloadEnv(gym.Env):
             return
         from matplotlib.figure import Figure
 
-        fig = Figure(figsize=(9, 3.3), dpi=80)
+        fig = Figure(figsize=(FRAME_SIZE_IN[0], FRAME_SIZE_IN[1] + 0.3), dpi=FRAME_DPI)   # + title
         self._draw(fig)
         fig.suptitle(title, fontsize=8)
         fig.tight_layout()
@@ -279,11 +242,15 @@ class BearingPreloadEnv(gym.Env):
 
 def _latest_path() -> Path:
     import tempfile
-    return Path(tempfile.gettempdir()) / "bearing_gym" / "latest.png"
+    # not <tmp>/bearing_gym: a folder of the package's name would shadow the package for any
+    # script run from the temp dir
+    return Path(tempfile.gettempdir()) / "bearing_gym_frames" / "latest.png"
 
 
 def _open_window():
-    """A pyplot figure in an interactive backend, or None if there is none (headless)."""
+    """A pyplot figure in the user's matplotlib backend if that backend is interactive, else
+    None (headless). Neither picks a backend nor switches interactive mode on: the window is
+    shown with ``show(block=False)`` and updated by ``pause``, whatever the user's settings."""
     try:
         import matplotlib
         import matplotlib.pyplot as plt
@@ -296,8 +263,7 @@ def _open_window():
             interactive = rcsetup.interactive_bk
         if backend not in {b.lower() for b in interactive}:
             return None
-        plt.ion()
-        fig = plt.figure("BearingPreload-v0", figsize=(9, 3.3))
+        fig = plt.figure("BearingPreload-v0", figsize=(FRAME_SIZE_IN[0], FRAME_SIZE_IN[1] + 0.3))
         plt.show(block=False)
         return fig
     except Exception:  # noqa: BLE001 - e.g. a GUI backend named in MPLBACKEND without a display

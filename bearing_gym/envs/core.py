@@ -37,7 +37,8 @@ SETTLE_KICK_INTERVALS = 10      # from the static equilibrium at nominal damping
 SETTLE_AID_INTERVALS = 20       # period-1 only: damping boosted, decaying smoothly to nominal
 SETTLE_TAIL_INTERVALS = 3       # nominal damping again; the last one gives the first observation
 SETTLE_DAMPING_BOOST = 10.0     # damping factor at the start of the aid
-SETTLE_CACHE_SIZE = 256
+SETTLE_CACHE_SIZE = 512
+_SETTLED: OrderedDict = OrderedDict()   # settle key -> env state after the settled start (per process)
 
 
 def scenario_params(base: BearingParams, scenario: Scenario) -> BearingParams:
@@ -93,7 +94,6 @@ class PreloadBatch:
         self.scenarios: list[Scenario | None] = [None] * B
         self.damping = np.zeros((B, 5))
         self.start_failed = np.zeros(B, dtype=bool)
-        self._settled: OrderedDict = OrderedDict()   # operating key -> state after settle()
         g = self.base.geometry
         self.gamma_cos_a0 = g.diameter_ratio * math.cos(g.contact_angle_rad)
 
@@ -153,24 +153,25 @@ class PreloadBatch:
         moving the orbit abruptly; ``SETTLE_TAIL_INTERVALS`` at nominal damping close it. The
         result depends only on the initial operating point, so it is cached (an LRU of
         ``SETTLE_CACHE_SIZE`` entries keyed by that point, the physics parameters and the
-        control timing): fixed scenarios and repeated evaluation seeds settle once.
+        control timing, shared by every env of the process): fixed scenarios and repeated evaluation
+        seeds settle once.
         """
         idx = np.asarray(idx, dtype=np.int64)
         todo = []
         for b in idx:
-            cached = self._settled.get(self._settle_key(int(b)))
+            cached = _SETTLED.get(self._settle_key(int(b)))
             if cached is None:
                 todo.append(int(b))
                 continue
-            self._settled.move_to_end(self._settle_key(int(b)))
+            _SETTLED.move_to_end(self._settle_key(int(b)))
             for name, value in zip(self._STATE, cached):
                 getattr(self, name)[b] = value
         if todo:
             self._run_settle(np.array(todo, dtype=np.int64))
             for b in todo:
-                self._settled[self._settle_key(b)] = tuple(getattr(self, name)[b].copy() for name in self._STATE)
-                while len(self._settled) > SETTLE_CACHE_SIZE:
-                    self._settled.popitem(last=False)
+                _SETTLED[self._settle_key(b)] = tuple(getattr(self, name)[b].copy() for name in self._STATE)
+                while len(_SETTLED) > SETTLE_CACHE_SIZE:
+                    _SETTLED.popitem(last=False)
         for b in idx:
             self.start_failed[b] = self.status[b] != 0
             self.env_state[b, 2] = 0.0

@@ -10,8 +10,7 @@ from typing import Any
 
 import numpy as np
 
-from .common import check_actions
-from .vector import BearingPreloadVectorEnv
+from .vector import BearingPreloadVectorEnv, check_action_batch
 
 __all__ = ["BearingPreloadSB3VecEnv"]
 
@@ -20,9 +19,11 @@ from stable_baselines3.common.vec_env.base_vec_env import VecEnv as _SB3VecEnv
 
 class BearingPreloadSB3VecEnv(_SB3VecEnv):
     """Stable-Baselines3 ``VecEnv`` over the native batched env (SB3 does not take a gymnasium
-    ``VectorEnv``). SB3 semantics: an env that ends is reset in the same step, its last
-    observation goes to ``infos[i]["terminal_observation"]`` and ``"TimeLimit.truncated"`` marks
-    truncation. Takes the :class:`BearingPreloadVectorEnv` arguments."""
+    ``VectorEnv``). SB3 semantics, as its ``DummyVecEnv``: an env that ends is reset in the same
+    step, its last observation goes to ``infos[i]["terminal_observation"]``,
+    ``infos[i]["TimeLimit.truncated"]`` says whether it was truncated, and ``reset_infos[i]``
+    holds env i's latest reset info. ``render_mode="rgb_array"`` gives ``get_images()`` and
+    SB3's tiled ``render()``. Takes the :class:`BearingPreloadVectorEnv` arguments."""
 
     def __init__(self, num_envs: int = 2, **kwargs: Any):
         self.venv = BearingPreloadVectorEnv(num_envs=num_envs, **kwargs)
@@ -31,37 +32,41 @@ class BearingPreloadSB3VecEnv(_SB3VecEnv):
         self._started = False
 
     def reset(self):
-        seeds = getattr(self, "_seeds", [None] * self.num_envs)
-        self.venv._seed(list(seeds))
-        opts = getattr(self, "_options", [{}] * self.num_envs)
+        self.venv._seed(list(self._seeds))
         obs = np.zeros((self.num_envs,) + self.observation_space.shape, dtype=np.float32)
         for b in range(self.num_envs):
-            obs[b] = self.venv._reset_envs(np.array([b]), opts[b] or None)[0]
-        if hasattr(self, "_reset_seeds"):
-            self._reset_seeds()
-        if hasattr(self, "_reset_options"):
-            self._reset_options()
+            o, infos = self.venv._reset_envs(np.array([b]), self._options[b] or None)
+            obs[b], self.reset_infos[b] = o[0], infos[0]
+        self._reset_seeds()        # seeds and options are used once, as in SB3's own VecEnvs
+        self._reset_options()
         self._started = True
         return obs
 
     def step_async(self, actions: np.ndarray) -> None:
-        self._actions = np.asarray(actions)
+        self._actions = actions
 
     def step_wait(self):
         if not self._started:
             raise RuntimeError("call reset() before step()")
-        a = check_actions(self._actions, self.num_envs)
+        a = check_action_batch(self._actions, self.num_envs)
         idx = np.arange(self.num_envs)
         obs, rew, term, trunc, infos = self.venv._step_envs(a, idx)
         dones = term | trunc
+        for b in idx:
+            infos[b]["TimeLimit.truncated"] = bool(trunc[b] and not term[b])
         for b in np.flatnonzero(dones):
             infos[b]["terminal_observation"] = obs[b].copy()
-            infos[b]["TimeLimit.truncated"] = bool(trunc[b] and not term[b])
-            obs[b] = self.venv._reset_envs(np.array([b]), None)[0]
+            o, reset_infos = self.venv._reset_envs(np.array([b]), None)
+            obs[b], self.reset_infos[b] = o[0], reset_infos[0]
         return obs, rew.astype(np.float32), dones, infos
 
+    def get_images(self):
+        if self.render_mode != "rgb_array":
+            return [None] * self.num_envs
+        return list(self.venv.render())
+
     def close(self) -> None:
-        pass
+        self.venv.close()
 
     def _indices(self, indices) -> list[int]:
         if indices is None:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from collections import deque
 from typing import Any, Sequence
 
 import gymnasium as gym
@@ -13,10 +14,27 @@ from gymnasium.vector import AutoresetMode, VectorEnv
 
 from bearing_gym.params import BearingParams
 
+from .bearing_preload import BearingPreloadEnv
 from .common import (DEFAULTS, check_actions, configure, measurement, observe, reset_envs,
-                     step_outputs)
+                     reset_info, step_outputs)
+from .rendering import HISTORY_LENGTH, POINCARE_LENGTH, record_interval, rgb_frame
 
-__all__ = ["BearingPreloadVectorEnv"]
+__all__ = ["BearingPreloadVectorEnv", "ResetMaskError"]
+
+
+class ResetMaskError(ValueError, TypeError):
+    """A bad ``options["reset_mask"]``. A ``ValueError``, and also a ``TypeError`` because
+    Gymnasium's own vector envs raise that for a mask of the wrong type or dtype: code written
+    for either catches it."""
+
+
+def check_action_batch(actions, num_envs: int) -> np.ndarray:
+    """Validate a batch of actions (see ``check_actions``); a scalar is a ``TypeError``, as in
+    Gymnasium's vector envs (they cannot iterate over it)."""
+    if np.ndim(actions) == 0:
+        raise TypeError(f"actions must be a batch, one action per env (shape ({num_envs}, 1)); "
+                        f"got the scalar {actions!r}")
+    return check_actions(actions, num_envs)
 
 
 class BearingPreloadVectorEnv(VectorEnv):
@@ -24,13 +42,21 @@ class BearingPreloadVectorEnv(VectorEnv):
     one numba kernel (``prange`` over environments, ``num_threads`` worker threads).
 
     Same arguments as the single env, plus ``num_envs``, ``max_episode_steps`` (truncation; the
-    single env gets it from its TimeLimit) and ``num_threads`` (default: numba's). Autoreset mode
+    single env gets it from its TimeLimit) and ``num_threads`` (default: numba's; applied only
+    around the kernel call, the caller's numba thread count is restored). Autoreset mode
     ``NEXT_STEP``: the step after an episode ends resets that env and returns its first
-    observation with reward 0. ``reset(seed=s)`` seeds env i with ``s + i``, so the batch is
-    identical step by step to ``num_envs`` single envs reset with those seeds.
+    observation with reward 0 and its reset info. ``reset(seed=s)`` seeds env i with ``s + i``,
+    so the batch is identical step by step to ``num_envs`` single envs reset with those seeds
+    (and to ``gym.make_vec(..., vectorization_mode="sync")``); ``reset(seed=[s0, s1, ...])``
+    seeds each env, ``None`` entries keep an env's generator; ``np_random_seed`` is the tuple of
+    the envs' seeds. ``reset(options={"reset_mask": mask})`` resets only the envs where the
+    boolean array ``mask`` (shape ``(num_envs,)``) is True, and only those take their seed.
+    ``render_mode="rgb_array"``: ``render()`` returns a tuple of the envs' frames, each what the
+    single env's ``render()`` returns.
     """
 
-    metadata = {"render_modes": [], "autoreset_mode": AutoresetMode.NEXT_STEP}
+    metadata = {"render_modes": ["rgb_array"], "render_fps": BearingPreloadEnv.metadata["render_fps"],
+                "autoreset_mode": AutoresetMode.NEXT_STEP}
 
     def __init__(self, num_envs: int = 2, tier: str = DEFAULTS["tier"], scenario: Any = None,
                  actuator: Any = None, observation: Any = None, reward: Any = None,
@@ -38,8 +64,11 @@ class BearingPreloadVectorEnv(VectorEnv):
                  episode_steps: int = DEFAULTS["episode_steps"],
                  max_episode_steps: int | None = DEFAULTS["episode_steps"],
                  num_threads: int | None = None, render_mode: str | None = None):
-        if render_mode is not None:
-            raise ValueError("the vector env does not render; render a single BearingPreloadEnv")
+        if render_mode is not None and render_mode not in self.metadata["render_modes"]:
+            raise ValueError(
+                f"render_mode must be None or 'rgb_array' (a tuple of the envs' frames), got "
+                f"{render_mode!r}; for a window render a single BearingPreloadEnv, use "
+                "vectorization_mode='sync', or wrap this env in gymnasium.wrappers.vector.HumanRendering")
         if isinstance(num_envs, bool) or not isinstance(num_envs, (int, np.integer)) or num_envs < 1:
             raise ValueError(f"num_envs must be an integer >= 1, got {num_envs!r}")
         self.num_envs = int(num_envs)
@@ -53,34 +82,78 @@ class BearingPreloadVectorEnv(VectorEnv):
         self.single_observation_space = self.observation_model.space
         self.action_space = gym.vector.utils.batch_space(self.single_action_space, self.num_envs)
         self.observation_space = gym.vector.utils.batch_space(self.single_observation_space, self.num_envs)
-        self.render_mode = None
+        self.render_mode = render_mode
         self._rngs: list[np.random.Generator | None] = [None] * self.num_envs
+        self._rng_seeds: list[int | None] = [None] * self.num_envs
         self._elapsed = np.zeros(self.num_envs, dtype=np.int64)
         self._autoreset = np.zeros(self.num_envs, dtype=bool)
         self._started = False
+        # what each env's frame shows (render_mode="rgb_array"); see bearing_gym.envs.rendering
+        self._frame_history = [deque(maxlen=HISTORY_LENGTH) for _ in range(self.num_envs)]
+        self._frame_poincare = [deque(maxlen=POINCARE_LENGTH) for _ in range(self.num_envs)]
+        self._frame_orbit: list[np.ndarray | None] = [None] * self.num_envs
+
+    # --- seeding -------------------------------------------------------------------------------
+    @property
+    def np_random(self) -> tuple[np.random.Generator, ...]:
+        """The envs' random generators (an unseeded env gets a random seed on first use)."""
+        return tuple(self._rng(b) for b in range(self.num_envs))
+
+    @property
+    def np_random_seed(self) -> tuple[int, ...]:
+        """The envs' seeds, as ``SyncVectorEnv.np_random_seed``: after ``reset(seed=s)``
+        ``(s, s + 1, ...)``; an env never seeded reports the random seed it drew."""
+        for b in range(self.num_envs):
+            self._rng(b)
+        return tuple(self._rng_seeds)
+
+    def _rng(self, b: int) -> np.random.Generator:
+        if self._rngs[b] is None:
+            self._rngs[b], self._rng_seeds[b] = seeding.np_random(None)
+        return self._rngs[b]
 
     # --- building blocks (also used by the SB3 adapter) ----------------------------------------
-    def _seed(self, seed: int | Sequence[int | None] | None) -> None:
+    def _seed(self, seed: int | Sequence[int | None] | None, idx: np.ndarray | None = None) -> None:
+        """Seed envs ``idx`` (default all) from ``seed``: None, an int (env i gets seed + i) or
+        one entry per env (None keeps that env's generator). Envs outside ``idx`` keep theirs."""
         if seed is None:
             seeds: list[int | None] = [None] * self.num_envs
         elif isinstance(seed, (int, np.integer)):
             seeds = [int(seed) + i for i in range(self.num_envs)]
         else:
-            seeds = list(seed)
+            seeds = [int(s) if isinstance(s, np.integer) else s for s in seed]
             if len(seeds) != self.num_envs:
                 raise ValueError(f"seed list must have num_envs = {self.num_envs} entries, got {len(seeds)}")
-        for i, s in enumerate(seeds):
-            if s is not None or self._rngs[i] is None:
-                self._rngs[i], _ = seeding.np_random(s)
+        for b in (range(self.num_envs) if idx is None else idx):
+            if seeds[b] is not None or self._rngs[b] is None:
+                self._rngs[b], self._rng_seeds[b] = seeding.np_random(seeds[b])
 
-    def _reset_envs(self, idx: np.ndarray, options: dict | None) -> np.ndarray:
-        rngs = [self._rngs[b] for b in idx]
-        reset_envs(self, idx, rngs, options)
-        self._elapsed[idx] = 0
-        b = self._batch
-        m = measurement(b, idx, b.preload[idx].copy(), np.full(len(idx), self.episode_steps),
-                        b.start_failed[idx].copy())
-        return observe(self, m, idx, rngs)
+    def _reset_envs(self, idx: np.ndarray, options: dict | None) -> tuple[np.ndarray, list[dict]]:
+        """Reset envs ``idx`` (their settled starts run together); returns their first
+        observations and reset infos."""
+        rngs = [self._rng(b) for b in idx]
+        self._with_threads(reset_envs, self, idx, rngs, options)
+        for b in idx:
+            self._elapsed[b] = 0
+            self._frame_history[b].clear()
+            self._frame_poincare[b].clear()
+            self._frame_orbit[b] = None
+        batch = self._batch
+        m = measurement(batch, idx, batch.preload[idx].copy(), np.full(len(idx), self.episode_steps),
+                        batch.start_failed[idx].copy())
+        return observe(self, m, idx, rngs), [reset_info(batch, int(b), m, i) for i, b in enumerate(idx)]
+
+    def _with_threads(self, fn, *args):
+        """``fn(*args)`` with numba's thread count set to ``num_threads`` for this call only (the
+        count is per calling thread; the caller's is restored)."""
+        if self.num_threads is None:
+            return fn(*args)
+        previous = numba.get_num_threads()
+        numba.set_num_threads(self.num_threads)
+        try:
+            return fn(*args)
+        finally:
+            numba.set_num_threads(previous)
 
     def _step_envs(self, actions: np.ndarray, idx: np.ndarray):
         """Step envs ``idx`` with their actions; returns obs, reward, terminated, truncated, infos."""
@@ -89,9 +162,12 @@ class BearingPreloadVectorEnv(VectorEnv):
         setpoints = np.zeros(self.num_envs)
         setpoints[idx] = self.actuator.setpoint_n(actions[idx])
         before = self._batch.preload[idx].copy()
-        if self.num_threads is not None:
-            numba.set_num_threads(self.num_threads)
-        self._batch.step(setpoints, active)
+        self._with_threads(self._batch.step, setpoints, active)
+        if self.render_mode is not None:
+            for b in idx:
+                orbit = record_interval(self._batch, int(b), self._frame_history[b], self._frame_poincare[b])
+                if orbit is not None:
+                    self._frame_orbit[b] = orbit
         self._elapsed[idx] += 1
         steps_left = np.maximum(self.episode_steps - self._elapsed[idx], 0)
         obs, rew, term, infos = step_outputs(self, idx, before, steps_left, [self._rngs[b] for b in idx])
@@ -101,27 +177,42 @@ class BearingPreloadVectorEnv(VectorEnv):
             trunc = (self._elapsed[idx] >= self.max_episode_steps) & ~term
         return obs, rew, term, trunc, infos
 
+    def _mask_indices(self, mask: Any) -> np.ndarray:
+        """The envs a ``reset_mask`` selects; raises ResetMaskError naming what is wrong."""
+        m = np.asarray(mask)
+        if m.shape != (self.num_envs,):
+            raise ResetMaskError(f"options['reset_mask'] must have shape ({self.num_envs},) (one "
+                                 f"bool per env), got shape {m.shape}")
+        if m.dtype != np.bool_:
+            raise ResetMaskError(f"options['reset_mask'] must have dtype bool, got {m.dtype}")
+        if not m.any():
+            raise ResetMaskError("options['reset_mask'] is all False: it must select at least one env")
+        if not self._started and not m.all():
+            raise ResetMaskError("the first reset must reset every env; options['reset_mask'] "
+                                 f"leaves out envs {np.flatnonzero(~m).tolist()}")
+        return np.flatnonzero(m)
+
     # --- gymnasium VectorEnv API -------------------------------------------------------------
     def reset(self, *, seed: int | Sequence[int | None] | None = None, options: dict | None = None):
-        self._seed(seed)
         opts = dict(options or {})
         mask = opts.pop("reset_mask", None)
-        idx = np.arange(self.num_envs) if mask is None else np.flatnonzero(np.asarray(mask, dtype=bool))
-        obs_part = self._reset_envs(idx, opts)
+        idx = np.arange(self.num_envs) if mask is None else self._mask_indices(mask)
+        self._seed(seed, idx)
+        obs_part, env_infos = self._reset_envs(idx, opts)
         if not self._started:
             self._obs = np.zeros((self.num_envs,) + self.single_observation_space.shape, dtype=np.float32)
             self._started = True
         self._obs[idx] = obs_part
         self._autoreset[idx] = False
         infos: dict[str, Any] = {}
-        for i, b in enumerate(idx):
-            infos = self._add_info(infos, {"preload_n": float(self._batch.preload[b])}, int(b))
+        for b, info in zip(idx, env_infos):
+            infos = self._add_info(infos, info, int(b))
         return self._obs.copy(), infos
 
     def step(self, actions):
         if not self._started:
             raise RuntimeError("call reset() before step()")
-        a = check_actions(actions, self.num_envs)
+        a = check_action_batch(actions, self.num_envs)
         rewards = np.zeros(self.num_envs)
         terminations = np.zeros(self.num_envs, dtype=bool)
         truncations = np.zeros(self.num_envs, dtype=bool)
@@ -129,14 +220,24 @@ class BearingPreloadVectorEnv(VectorEnv):
         reset_idx = np.flatnonzero(self._autoreset)
         step_idx = np.flatnonzero(~self._autoreset)
         if len(reset_idx):
-            self._obs[reset_idx] = self._reset_envs(reset_idx, None)
+            self._obs[reset_idx], env_infos = self._reset_envs(reset_idx, None)
+            for b, info in zip(reset_idx, env_infos):
+                infos = self._add_info(infos, info, int(b))
         if len(step_idx):
             obs, rew, term, trunc, env_infos = self._step_envs(a, step_idx)
             self._obs[step_idx] = obs
             rewards[step_idx] = rew
             terminations[step_idx] = term
             truncations[step_idx] = trunc
-            for i, b in enumerate(step_idx):
-                infos = self._add_info(infos, env_infos[i], int(b))
+            for b, info in zip(step_idx, env_infos):
+                infos = self._add_info(infos, info, int(b))
         self._autoreset = terminations | truncations
         return self._obs.copy(), rewards, terminations, truncations, infos
+
+    def render(self) -> tuple[np.ndarray | None, ...]:
+        """The envs' frames (``render_mode="rgb_array"``), as ``SyncVectorEnv.render``: a tuple,
+        one (H, W, 3) uint8 frame per env; a tuple of None without a render mode."""
+        if self.render_mode != "rgb_array":
+            return (None,) * self.num_envs
+        return tuple(rgb_frame(self._frame_orbit[b], self._frame_poincare[b], self._frame_history[b])
+                     for b in range(self.num_envs))

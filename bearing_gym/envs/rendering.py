@@ -1,0 +1,82 @@
+"""The frames of ``BearingPreload-v0``, shared by the single and the vector env.
+
+What a frame shows is decided here once: :func:`record_interval` remembers what an env's last
+control interval adds to its frame (orbit, Poincare points, preload trace), :func:`draw_frame`
+draws the three panels on a matplotlib ``Figure`` and :func:`rgb_frame` renders them to an
+RGB array. None of them touches pyplot or the process's matplotlib backend: a ``Figure`` with
+an Agg canvas draws off-screen whatever backend the user chose.
+"""
+
+from __future__ import annotations
+
+import math
+from collections import deque
+
+import numpy as np
+
+__all__ = ["HISTORY_LENGTH", "POINCARE_LENGTH", "FRAME_SIZE_IN", "FRAME_DPI",
+           "record_interval", "draw_frame", "rgb_frame"]
+
+HISTORY_LENGTH = 500      # control intervals in the preload panel
+POINCARE_LENGTH = 2000    # points in the Poincare panel
+FRAME_SIZE_IN = (9, 3)    # figure size of an rgb_array frame (inches)
+FRAME_DPI = 80
+
+
+def record_interval(batch, b: int, history: deque, poincare: deque) -> np.ndarray | None:
+    """Append env ``b``'s last control interval to its frame memory.
+
+    ``history`` gets ``(t, preload, set-point, qpi)``, ``poincare`` the (x, z) points where the
+    unwrapped shaft angle crosses a whole number of turns (a fixed phase, so the points of all
+    intervals belong to one section). Returns the interval's x, y, z orbit (rows x 3, metres),
+    or None if the interval recorded no rows (the env's previous orbit then stays valid).
+    """
+    from bearing_gym.analysis.poincare import angle_section
+    from .features import F_QPI
+    from bearing_gym.physics.rotor import R_SHAFT, R_X
+
+    history.append((float(batch.t_episode[b]), float(batch.preload[b]), float(batch.setpoint[b]),
+                    float(batch.feats[b, F_QPI])))
+    w = batch.window(b)
+    if not len(w):
+        return None
+    poincare.extend(map(tuple, angle_section(w[:, R_SHAFT], w[:, [R_X, R_X + 2]], 2.0 * math.pi,
+                                             phase_rad=0.0)))
+    return w[:, R_X:R_X + 3].copy()
+
+
+def draw_frame(fig, orbit: np.ndarray | None, poincare, history) -> None:
+    """The three panels of a frame on ``fig``: the x-y orbit of the last interval, the Poincare
+    section (x, z once per shaft turn) and the preload and set-point over time. ``orbit`` is
+    drawn only once the episode has a history (it would be the previous episode's)."""
+    ax1, ax2, ax3 = fig.subplots(1, 3)
+    if orbit is not None and len(history):
+        ax1.plot(orbit[:, 0] * 1e6, orbit[:, 1] * 1e6, lw=0.6)
+    ax1.set(title="orbit (last interval)", xlabel="x (um)", ylabel="y (um)")
+    if len(poincare):
+        p = np.array(poincare)
+        ax2.plot(p[:, 0] * 1e6, p[:, 1] * 1e6, ".", ms=2)
+    ax2.set(title="Poincare (once per turn)", xlabel="x (um)", ylabel="z (um)")
+    if len(history):
+        h = np.array(history)
+        ax3.plot(h[:, 0], h[:, 1], label="preload")
+        ax3.plot(h[:, 0], h[:, 2], "--", label="set-point")
+        ax3.legend(fontsize=7)
+        lo, hi = float(h[:, 1:3].min()), float(h[:, 1:3].max())
+        pad = max(50.0, 0.1 * (hi - lo))      # newtons: no 1e-6 N offset axis for a flat trace
+        ax3.set_ylim(lo - pad, hi + pad)
+        ax3.ticklabel_format(axis="y", useOffset=False)
+    ax3.set(title="preload", xlabel="t (s)", ylabel="N")
+    fig.tight_layout()
+
+
+def rgb_frame(orbit: np.ndarray | None, poincare, history) -> np.ndarray:
+    """The frame as an (H, W, 3) uint8 array, drawn off-screen (Figure + Agg canvas, no pyplot)."""
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=FRAME_SIZE_IN, dpi=FRAME_DPI)
+    canvas = FigureCanvasAgg(fig)
+    draw_frame(fig, orbit, poincare, history)
+    canvas.draw()
+    return np.asarray(canvas.buffer_rgba())[:, :, :3].copy()
