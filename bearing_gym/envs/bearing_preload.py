@@ -26,72 +26,93 @@ class BearingPreloadEnv(gym.Env):
 
     A rigid spindle rotor runs on an angular-contact ball bearing whose axial preload is
     adjustable (the Bai & Xu 2006 5-DOF model: Hertz contacts, clearance, waviness, ball
-    centrifugal force and gyroscopic moment, time-varying cage speed). Too little preload and the
-    periodic (once-per-revolution) response loses stability in a secondary Hopf bifurcation: the
-    rotor vibrates quasi-periodically with amplitudes tens of times larger. Too much preload costs
-    friction heat and fatigue life. The stability boundary moves with shaft speed, radial load,
-    clearance and waviness, so the controller has to keep the preload just above it while the
-    operating point changes.
+    centrifugal force and gyroscopic moment, time-varying cage speed). With too little preload the
+    periodic (once-per-revolution) response loses stability in a Neimark-Sacker (secondary Hopf)
+    bifurcation and the rotor vibrates quasi-periodically, with non-synchronous amplitudes of
+    tens of micrometres. Too much preload costs friction heat and fatigue life. The stability
+    map is not one boundary: with radial load and clearance there are isolated period-1 windows
+    and quasi-periodic bands above them (``docs/reward_map.png``), and it moves with shaft speed,
+    radial load, clearance and waviness. The controller has to find the cheapest period-1
+    preload of the operating point it is in and follow it when the operating point changes.
 
     Each ``step`` advances the physics (dt = 10 us, Newmark-beta) by one control interval
-    (``control_dt_s``, default 20 ms: 6.7 shaft turns at 20,000 rpm, enough for the Poincare
-    points of one interval to tell periodic from quasi-periodic motion).
+    (``control_dt_s``, 20 ms: 6.7 shaft turns at 20,000 rpm, enough Poincare points for the
+    quasi-periodicity index of one interval).
 
     ## Action Space
 
     ``Box(-1, 1, (1,), float32)``: the preload set-point, mapped linearly onto
-    [``min_preload_n``, ``max_preload_n``] of the actuator (default 300-2000 N). The actual
-    preload follows the set-point through a first-order lag (20 ms) with a slew-rate limit
-    (20 kN/s). A NaN or out-of-range action raises ``ValueError`` (no silent clipping; SB3
-    clips/squashes its own samples into the Box).
+    [``min_preload_n``, ``max_preload_n``] of the actuator (300-2000 N). The actual preload
+    follows the set-point through a first-order lag (20 ms) with a slew-rate limit (20 kN/s).
+    A NaN or out-of-range action raises ``ValueError``, a string or None ``TypeError`` (no
+    silent clipping; SB3 clips/squashes its own samples into the Box).
 
     ## Observation Space
 
-    ``Box(-10, 10, (14,), float32)``: features of the last control interval, see
-    :mod:`bearing_gym.envs.observation` for the table: peak-to-peak (/100 um) and RMS (/50 um) of
+    ``Box(-10, 10, (15,), float32)`` from the sensor model (:mod:`bearing_gym.envs.observation`
+    has the table and what a real spindle measures): peak-to-peak (/100 um) and RMS (/50 um) of
     x, y, z; mean cage speed relative to its kinematic value and its peak-to-peak; the
     quasi-periodicity index; the actual preload and set-point mapped to [-1, 1]; shaft speed /
-    25,000 rpm; the static radial and axial offsets of the rotor (mean displacement / 100 um,
-    what a displacement probe reads: they reveal the radial load and the clearance). Optional
-    Gaussian sensor noise (``obs_noise_std``).
+    25,000 rpm; the static radial and axial offsets (mean displacement / 100 um, what a
+    displacement probe reads: they carry the radial load and the clearance); the RMS of the
+    non-synchronous displacement (/10 um). The ``field`` tier adds probe noise, runout, an
+    offset that drifts, and drops the cage-speed sensor.
 
     ## Rewards
 
-    ``-(2.0 * qpi + 0.3 * heat + 0.1 * fatigue + 0.1 * preload_change)`` per interval (weights
-    are arguments of :class:`~bearing_gym.envs.reward.RewardModel`): the quasi-periodicity index
-    (~0.02 periodic, ~1 quasi-periodic), the Palmgren load-dependent friction heat
-    (P / 1 kN)(omega / 20,000 rpm), the ISO 281 fatigue-life consumption rate
-    (P_eq / 1 kN)^3 (omega / 20,000 rpm) and |Delta P| / 1 kN. Each weighted term is in
-    ``info`` (``reward_vibration``, ``reward_heat``, ``reward_fatigue``,
-    ``reward_preload_change``). A failed integration ends the episode with an extra -10.
+    :class:`~bearing_gym.envs.reward.VibrationFirstReward` (its module docstring gives the
+    reason for every weight): per interval, minus the sum of
+
+    * vibration ``q (1 + min(a, 100 um) / 10 um)``: q = 1 if the interval is quasi-periodic
+      (index > ``QPI_THRESHOLD`` = 0.1) else 0, a the RMS of the non-synchronous displacement
+      (x, y, z after removing the shaft-synchronous series up to 3x);
+    * heat ``0.5 (P / 2000 N)(n / 25,000 rpm)`` (Palmgren: friction heat ~ P n);
+    * fatigue ``0.5 (P_eq / P_eq,max)^3 (n / 25,000 rpm)`` (ISO 281: life used ~ P_eq^3 n,
+      P_eq = max(F_r, 0.41 F_r + 0.87 P), P_eq,max at 2000 N and 500 N radial);
+    * actuation ``0.1 |Delta P| / 1700 N``;
+    * termination (integrator failure): the worst cost of an interval times (1 + intervals left),
+      so a crash never pays.
+
+    Heat + fatigue cost at most 1 (the costliest corner of the envelope), a quasi-periodic
+    interval at least 1: vibration first, then heat and life, then actuation. Each term is in
+    ``info`` as ``reward_vibration``, ``reward_heat``, ``reward_fatigue``, ``reward_actuation``,
+    ``reward_termination``; ``info`` also has ``qpi``, ``quasi_periodic``, ``nonsync_rms_um``,
+    ``preload_n``, ``setpoint_n``, ``shaft_speed_rpm``, ``radial_load_n`` and ``t``.
 
     ## Starting State
 
-    The scenario is drawn (or pinned by ``reset(options=...)``); the rotor starts at the static
-    equilibrium of its initial operating point (speed, radial load, clearance, waviness, initial
-    preload: 800-2000 N randomised, 1000 N for ``"paper"``) with zero velocity.
+    The scenario is drawn by the tier (or pinned by ``reset(options=...)``). The rotor starts
+    from the static equilibrium of the initial operating point and initial preload, and
+    ``reset`` runs it until it has settled (:meth:`bearing_gym.envs.core.PreloadBatch.settle`:
+    0.66 s of simulated warm-up, with a damping aid where the motion is period-1; cached per
+    operating point): the first observation and the first reward describe steady motion, not
+    the ringing of the start. The reset info has the settled interval's ``qpi`` and
+    ``nonsync_rms_um``.
 
     ## Episode End
 
-    Truncation after ``max_episode_steps`` (250 intervals = 5 s, set by the registration's
-    TimeLimit). Termination if the integrator fails (``info["termination_reason"]`` says why);
-    the observation stays finite.
+    Truncation after ``max_episode_steps`` = ``EPISODE_STEPS`` = 150 intervals (3 s), the
+    registration's TimeLimit. Termination if the integrator fails (``info["termination_reason"]``
+    says why); the observation stays finite.
 
     ## Arguments
 
-    ``gymnasium.make("BearingPreload-v0", scenario="randomized", control_dt_s=0.02,
-    actuator=PreloadActuator(), reward=RewardModel(), observation=ObservationModel(),
-    params=None, episode_steps=250, render_mode=None, render_dir=None)``
+    ``gymnasium.make("BearingPreload-v0", tier="transient", scenario=None, actuator=None,
+    observation=None, reward=None, params=None, control_dt_s=0.02, episode_steps=150,
+    render_mode=None, render_dir=None)``
 
-    * ``scenario``: ``"randomized"`` (speed 10,000-25,000 rpm constant or ramped, radial-load step
-      0-500 N, clearance 4-30 um, race waviness 0-1 um order 18, unbalance 5-20 um), ``"paper"``
-      (20,000 rpm, c = 4 um, P_x = P_y = 0, e = 1e-5 m), a ``Scenario`` or a
-      ``ScenarioDistribution``. ``reset(options={...})`` pins scenario fields
-      (``shaft_speed_rpm``, ``radial_load_n``, ``clearance_m``, ``waviness_amplitude_m``,
-      ``eccentricity_m``, ``initial_preload_n``, ... or ``scenario=Scenario(...)``); an unknown
+    * ``tier``: ``"paper"``, ``"stationary"``, ``"transient"`` (the main benchmark, default) or
+      ``"field"`` (:mod:`bearing_gym.envs.tiers` says what each asks of a policy).
+    * ``scenario``, ``actuator``, ``observation``, ``reward``: replace the tier's part with your
+      own object (protocols in :mod:`bearing_gym.envs.parts` and the parts' modules); a
+      dataclass part with an ``entry_point`` survives ``env.spec.to_json()``. ``scenario`` also
+      takes a tier name (its scenarios) or a :class:`~bearing_gym.envs.Scenario`.
+      ``reset(options={...})`` pins scenario fields (``shaft_speed_rpm``, ``radial_load_n``,
+      ``clearance_m``, ``initial_preload_n``, ... or ``scenario=Scenario(...)``); an unknown
       option raises ``ValueError``.
     * ``params``: base :class:`~bearing_gym.params.BearingParams` (bearing, rotor, damping, dt).
-    * ``episode_steps``: the horizon used to place speed ramps and load steps in time.
+    * ``control_dt_s``, ``episode_steps``: the control interval and the horizon that places the
+      scenario's events in time (keep them at the defaults for the benchmark).
     * ``render_mode``: ``"rgb_array"``: ``render()`` returns the frame (H x W x 3 uint8);
       ``"human"``: ``reset()`` and ``step()`` draw the frame themselves (``render()`` returns
       None), see *Rendering*.
@@ -107,12 +128,20 @@ class BearingPreloadEnv(gym.Env):
     can open one (a display is available, or ``MPLBACKEND`` names one) and updates it after
     every step, pausing ``1 / metadata["render_fps"]`` s. Without one (a headless machine, the
     Agg backend) it writes the frames as PNG files instead: to ``render_dir`` if given, else
-    the latest frame to ``<temp dir>/bearing_gym/latest.png`` (overwritten each step; a warning
+    the latest frame to ``<temp dir>/bearing_gym_frames/latest.png`` (overwritten each step; a warning
     names the path once). Closing the window stops the drawing, not the episode.
 
     ## Version History
 
-    * v0: first release.
+    * v0 (redefined in place before the first release): the reward is about vibration
+      (quasi-periodic gate and non-synchronous amplitude instead of the normalised index; heat
+      and fatigue on the envelope's scale; a termination costs at least any continuation), the
+      start is settled, difficulty tiers (``tier=``, default ``"transient"``) replace the
+      ``"randomized"`` scenario, the horizon is 150 intervals in registration, training and
+      evaluation alike, the observation has the non-synchronous RMS (15 features) and the parts
+      are swappable objects.
+    * v0 (first cut): 14 features, reward -(2 qpi + 0.3 heat + 0.1 fatigue + 0.1 |Delta P|),
+      start at the static equilibrium, 250-interval registration horizon.
     """
 
     metadata = {"render_modes": ["human", "rgb_array"], "render_fps": 10}

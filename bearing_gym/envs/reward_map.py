@@ -1,0 +1,208 @@
+"""The reward map: the stationary per-interval reward of every constant preload over a grid of
+operating points, the ground truth a preload policy faces.
+
+For each cell (shaft speed, radial load, clearance; no waviness, unbalance 10 um) and each
+preload of the grid, the env's own physics starts settled at that preload (as ``reset`` does)
+and holds it for ``measure_intervals`` control intervals; the reward model scores every
+interval. A preload is *period-1* in a cell when no measured interval is quasi-periodic
+(index <= ``QPI_THRESHOLD``), *quasi-periodic* when at least one is.
+
+``python -m bearing_gym.envs.reward_map --out docs/reward_map.csv`` writes the grid
+(``docs/environment.md`` shows it); :func:`reward_map` is the library call.
+"""
+
+from __future__ import annotations
+
+import argparse
+import csv
+import itertools
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from .common import measurement
+from .core import PreloadBatch
+from .features import F_NS_RMS
+from .scenario import Scenario
+from .tiers import CONTROL_DT_S, tier_parts
+
+__all__ = ["MapPoint", "reward_map", "GRID_SPEEDS_RPM", "GRID_RADIAL_LOADS_N", "GRID_CLEARANCES_M",
+           "GRID_PRELOADS_N", "MEASURE_INTERVALS", "best_preloads", "period1_windows", "write_csv", "read_csv"]
+
+GRID_SPEEDS_RPM = (10000.0, 17500.0, 25000.0)
+GRID_RADIAL_LOADS_N = (0.0, 250.0, 500.0)
+GRID_CLEARANCES_M = (4e-6, 17e-6, 30e-6)
+GRID_PRELOADS_N = tuple(float(p) for p in range(300, 2001, 100))
+MEASURE_INTERVALS = 25          # 0.5 s of settled motion per point
+
+COLUMNS = ("speed_rpm", "radial_load_n", "clearance_um", "preload_n", "mean_reward", "mean_vibration",
+           "mean_heat", "mean_fatigue", "quasi_periodic_fraction", "max_qpi", "mean_qpi",
+           "mean_nonsync_rms_um", "terminated")
+
+
+@dataclass(frozen=True)
+class MapPoint:
+    speed_rpm: float
+    radial_load_n: float
+    clearance_um: float
+    preload_n: float
+    mean_reward: float
+    mean_vibration: float
+    mean_heat: float
+    mean_fatigue: float
+    quasi_periodic_fraction: float
+    max_qpi: float
+    mean_qpi: float
+    mean_nonsync_rms_um: float
+    terminated: bool
+
+    @property
+    def period1(self) -> bool:
+        return not self.terminated and self.quasi_periodic_fraction == 0.0
+
+    @property
+    def cell(self) -> tuple[float, float, float]:
+        return (self.speed_rpm, self.radial_load_n, self.clearance_um)
+
+
+def _cell_points(speed_rpm: float, radial_n: float, clearance_m: float, preloads: tuple[float, ...],
+                 measure_intervals: int, reward) -> list[MapPoint]:
+    parts = tier_parts("stationary")
+    batch = PreloadBatch(len(preloads), None, CONTROL_DT_S, parts["actuator"])
+    for b, p in enumerate(preloads):
+        batch.load(b, Scenario(speed_profile=((0.0, speed_rpm),), radial_load_profile=((0.0, radial_n),),
+                               clearance_m=clearance_m, initial_preload_n=p))
+    idx = np.arange(len(preloads))
+    batch.settle(idx)
+    setpoints = np.array(preloads, dtype=float)
+    terms_sum = {k: np.zeros(len(preloads)) for k in ("vibration", "heat", "fatigue")}
+    total = np.zeros(len(preloads))
+    qp = np.zeros(len(preloads))
+    qpi_max = np.zeros(len(preloads))
+    qpi_sum = np.zeros(len(preloads))
+    ns_sum = np.zeros(len(preloads))
+    failed = batch.start_failed.copy()
+    for k in range(measure_intervals):
+        before = batch.preload.copy()
+        batch.step(setpoints, ~failed)
+        failed |= batch.status != 0
+        m = measurement(batch, idx, before, np.full(len(idx), measure_intervals - k - 1), failed)
+        r, terms = reward(m)
+        total += r
+        for name in terms_sum:
+            terms_sum[name] += terms[name]
+        qp += m.quasi_periodic
+        qpi_max = np.maximum(qpi_max, m.qpi)
+        qpi_sum += m.qpi
+        ns_sum += batch.feats[:, F_NS_RMS]
+    n = measure_intervals
+    return [MapPoint(speed_rpm, radial_n, clearance_m * 1e6, float(p), float(total[b] / n),
+                     float(terms_sum["vibration"][b] / n), float(terms_sum["heat"][b] / n),
+                     float(terms_sum["fatigue"][b] / n), float(qp[b] / n), float(qpi_max[b]),
+                     float(qpi_sum[b] / n), float(ns_sum[b] / n * 1e6), bool(failed[b]))
+            for b, p in enumerate(preloads)]
+
+
+def reward_map(speeds_rpm=GRID_SPEEDS_RPM, radial_loads_n=GRID_RADIAL_LOADS_N,
+               clearances_m=GRID_CLEARANCES_M, preloads_n=GRID_PRELOADS_N,
+               measure_intervals: int = MEASURE_INTERVALS, reward=None, progress=None) -> list[MapPoint]:
+    """The map over the grid (every preload of a cell in one batch: numba threads over them)."""
+    reward = reward if reward is not None else tier_parts("stationary")["reward"]
+    points: list[MapPoint] = []
+    cells = list(itertools.product(speeds_rpm, radial_loads_n, clearances_m))
+    for k, (v, f, c) in enumerate(cells):
+        points += _cell_points(float(v), float(f), float(c), tuple(preloads_n), measure_intervals, reward)
+        if progress is not None:
+            progress(k + 1, len(cells))
+    return points
+
+
+def cells_of(points: list[MapPoint]) -> dict[tuple, list[MapPoint]]:
+    out: dict[tuple, list[MapPoint]] = {}
+    for p in points:
+        out.setdefault(p.cell, []).append(p)
+    return {k: sorted(v, key=lambda p: p.preload_n) for k, v in out.items()}
+
+
+def best_preloads(points: list[MapPoint]) -> dict[tuple, MapPoint]:
+    """Per cell, the preload of the highest stationary reward."""
+    return {cell: max(pts, key=lambda p: p.mean_reward) for cell, pts in cells_of(points).items()}
+
+
+def period1_windows(pts: list[MapPoint], step_n: float = 100.0) -> list[tuple[float, float]]:
+    """The contiguous preload ranges (N) of one cell in which the motion is period-1."""
+    windows: list[tuple[float, float]] = []
+    for p in sorted(pts, key=lambda p: p.preload_n):
+        if not p.period1:
+            continue
+        if windows and math.isclose(p.preload_n - windows[-1][1], step_n):
+            windows[-1] = (windows[-1][0], p.preload_n)
+        else:
+            windows.append((p.preload_n, p.preload_n))
+    return windows
+
+
+def write_csv(points: list[MapPoint], path: str | Path) -> None:
+    with open(path, "w", newline="") as fh:
+        w = csv.writer(fh)
+        w.writerow(COLUMNS)
+        for p in points:
+            w.writerow([getattr(p, c) if not isinstance(getattr(p, c), float) else f"{getattr(p, c):.6g}"
+                        for c in COLUMNS])
+
+
+def read_csv(path: str | Path) -> list[MapPoint]:
+    with open(path, newline="") as fh:
+        rows = list(csv.DictReader(fh))
+    return [MapPoint(**{c: (r[c] == "True") if c == "terminated" else float(r[c]) for c in COLUMNS}) for r in rows]
+
+
+def plot(points: list[MapPoint], path: str | Path) -> None:
+    """One panel per speed: preload (x) against the 9 (radial load, clearance) cells (y),
+    coloured by the stationary reward, quasi-periodic points crossed, each cell's best ringed."""
+    import matplotlib
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+    from matplotlib.figure import Figure
+    speeds = sorted({p.speed_rpm for p in points})
+    cells = cells_of(points)
+    best = best_preloads(points)
+    fig = Figure(figsize=(4.6 * len(speeds) + 1.5, 4.6), layout="constrained")
+    FigureCanvasAgg(fig)
+    axes = fig.subplots(1, len(speeds), sharey=True)
+    vmin = min(p.mean_reward for p in points if not p.terminated)
+    norm = matplotlib.colors.Normalize(vmin=max(vmin, -6.0), vmax=0.0)
+    for ax, v in zip(np.atleast_1d(axes), speeds):
+        rows = sorted(c for c in cells if c[0] == v)
+        for y, cell in enumerate(rows):
+            pts = cells[cell]
+            x = [p.preload_n for p in pts]
+            sc = ax.scatter(x, [y] * len(x), c=[p.mean_reward for p in pts], cmap="viridis", norm=norm, s=60)
+            qx = [p.preload_n for p in pts if not p.period1]
+            ax.scatter(qx, [y] * len(qx), marker="x", color="red", s=30, lw=1.2)
+            ax.scatter([best[cell].preload_n], [y], facecolors="none", edgecolors="black", s=160, lw=1.5)
+        ax.set_yticks(range(len(rows)), [f"{c[1]:.0f} N, {c[2]:.0f} um" for c in rows])
+        ax.set(title=f"{v:,.0f} rpm", xlabel="constant preload (N)")
+    np.atleast_1d(axes)[0].set_ylabel("radial load, clearance")
+    fig.colorbar(sc, ax=axes, label="stationary reward per 20 ms interval")
+    fig.suptitle("Reward map: x = quasi-periodic (some interval with index > 0.1), ring = best preload of the cell")
+    fig.savefig(path, dpi=90)
+
+
+def main(argv: list[str] | None = None) -> None:
+    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
+    ap.add_argument("--out", default="docs/reward_map.csv", help="CSV to write (a PNG beside it)")
+    ap.add_argument("--plot-only", action="store_true", help="redraw the PNG from an existing CSV")
+    args = ap.parse_args(argv)
+    if args.plot_only:
+        pts = read_csv(args.out)
+    else:
+        pts = reward_map(progress=lambda k, n: print(f"cell {k}/{n}", flush=True))
+        write_csv(pts, args.out)
+    plot(pts, Path(args.out).with_suffix(".png"))
+    print(f"wrote {args.out} and {Path(args.out).with_suffix('.png')}")
+
+
+if __name__ == "__main__":
+    main()
