@@ -34,7 +34,8 @@ grids with short durations (about 1 minute on 2 free cores) to check the pipelin
 are rougher than the full run's (about 8 minutes on 2 free cores, 15 when they are shared).
 
 The steps live in :mod:`.plan` (grids), :mod:`.experiments` (worker tasks), :mod:`.figures`,
-:mod:`.summary` (the numbers), :mod:`.claims` (checks and verdicts) and :mod:`.report`.
+:mod:`.summary` (the numbers), :mod:`.claims` (checks and verdicts), :mod:`.report` and
+:mod:`.sections` (the report text per claim).
 """
 
 from __future__ import annotations
