@@ -2,12 +2,12 @@
 
 Every quantity is in SI units. The defaults are the paper's Table 1 bearing and the rotor of
 its section 3.1 (m = 12.17 kg, I_r = 0.0330 kg m^2, I_z = 0.0609 kg m^2), steel as in
-``paper-notes.md`` (E = 208 GPa, nu = 0.3, rho = 7850 kg/m^3).
+``docs/model.md`` (E = 208 GPa, nu = 0.3, rho = 7850 kg/m^3).
 
 Each dataclass validates itself in ``__post_init__`` and raises :class:`ValueError` naming the
 field and the allowed range. :func:`default_params` builds the Table 1 configuration with flat
-keyword overrides. The conversion to flat float64 arrays for the numba kernels happens once, in
-:meth:`BearingParams.to_arrays` (the layout lives in :mod:`bearing_gym.physics.layout`).
+keyword overrides. This module imports no physics: the conversion to the flat float64 arrays of
+the numba kernels is :func:`bearing_gym.physics.layout.pack_params`.
 """
 
 from __future__ import annotations
@@ -18,6 +18,9 @@ from dataclasses import dataclass, field
 from typing import Any
 
 import numpy as np
+
+from bearing_gym.units import rpm_to_rad_s
+from bearing_gym.validation import check_bool, check_int, check_real, check_real_tuple
 
 __all__ = [
     "BearingGeometry",
@@ -38,42 +41,12 @@ RACE_CONTROLS = ("outer", "inner", "auto")
 
 
 # ---------------------------------------------------------------------------------------------
-# validation helpers
+# validation helpers (bearing_gym.validation; the private names stay importable from here
+# until every caller uses the public ones)
 # ---------------------------------------------------------------------------------------------
-def _check_real(name: str, value: Any, low: float | None = None, high: float | None = None,
-                low_open: bool = False, high_open: bool = False) -> float:
-    """Return ``value`` as float; raise ValueError naming ``name`` unless finite and in range."""
-    if isinstance(value, bool) or not isinstance(value, (int, float, np.integer, np.floating)):
-        raise ValueError(f"{name} must be a real number, got {value!r}")
-    v = float(value)
-    lo_txt = "-inf" if low is None else f"{low:g}"
-    hi_txt = "inf" if high is None else f"{high:g}"
-    rng = f"{'(' if low_open or low is None else '['}{lo_txt}, {hi_txt}{')' if high_open or high is None else ']'}"
-    if not math.isfinite(v):
-        raise ValueError(f"{name} must be finite and in {rng}, got {value!r}")
-    if low is not None and (v < low or (low_open and v == low)):
-        raise ValueError(f"{name} must be in {rng}, got {v:g}")
-    if high is not None and (v > high or (high_open and v == high)):
-        raise ValueError(f"{name} must be in {rng}, got {v:g}")
-    return v
-
-
-def _check_int(name: str, value: Any, low: int, high: int) -> int:
-    if isinstance(value, bool) or not isinstance(value, (int, np.integer)):
-        raise ValueError(f"{name} must be an integer in [{low}, {high}], got {value!r}")
-    v = int(value)
-    if v < low or v > high:
-        raise ValueError(f"{name} must be an integer in [{low}, {high}], got {v}")
-    return v
-
-
-def _as_float_tuple(name: str, value: Any, low: float | None = None,
-                    high: float | None = None) -> tuple[float, ...]:
-    try:
-        items = tuple(value)
-    except TypeError:
-        raise ValueError(f"{name} must be a sequence of real numbers, got {value!r}") from None
-    return tuple(_check_real(f"{name}[{k}]", x, low, high) for k, x in enumerate(items))
+_check_real = check_real
+_check_int = check_int
+_as_float_tuple = check_real_tuple
 
 
 def _set(obj: Any, name: str, value: Any) -> None:
@@ -102,20 +75,20 @@ class BearingGeometry:
     clearance_outer_m: float = 4.0e-6
 
     def __post_init__(self) -> None:
-        n = _check_int("n_balls", self.n_balls, 3, 200)
-        db = _check_real("ball_diameter_m", self.ball_diameter_m, 0.0, 0.5, low_open=True)
-        dp = _check_real("pitch_diameter_m", self.pitch_diameter_m, db, 5.0, low_open=True)
+        n = check_int("n_balls", self.n_balls, 3, 200)
+        db = check_real("ball_diameter_m", self.ball_diameter_m, 0.0, 0.5, low_open=True)
+        dp = check_real("pitch_diameter_m", self.pitch_diameter_m, db, 5.0, low_open=True)
         if n * db >= math.pi * dp:
             raise ValueError(
                 f"n_balls * ball_diameter_m must be < pi * pitch_diameter_m (balls overlap): "
                 f"n_balls must be in [3, {int(math.pi * dp / db - 1e-12)}] for these diameters, got {n}")
-        ci = _check_real("clearance_inner_m", self.clearance_inner_m, 0.0, 1e-3)
-        co = _check_real("clearance_outer_m", self.clearance_outer_m, 0.0, 1e-3)
-        ri = _check_real("inner_groove_radius_m", self.inner_groove_radius_m, db / 2 + ci, db,
+        ci = check_real("clearance_inner_m", self.clearance_inner_m, 0.0, 1e-3)
+        co = check_real("clearance_outer_m", self.clearance_outer_m, 0.0, 1e-3)
+        ri = check_real("inner_groove_radius_m", self.inner_groove_radius_m, db / 2 + ci, db,
                          low_open=True)
-        ro = _check_real("outer_groove_radius_m", self.outer_groove_radius_m, db / 2 + co, db,
+        ro = check_real("outer_groove_radius_m", self.outer_groove_radius_m, db / 2 + co, db,
                          low_open=True)
-        a0 = _check_real("contact_angle_rad", self.contact_angle_rad, 0.0, math.radians(80.0),
+        a0 = check_real("contact_angle_rad", self.contact_angle_rad, 0.0, math.radians(80.0),
                          high_open=True)
         for k, v in (("n_balls", n), ("ball_diameter_m", db), ("pitch_diameter_m", dp),
                      ("clearance_inner_m", ci), ("clearance_outer_m", co),
@@ -139,10 +112,10 @@ class Material:
 
     def __post_init__(self) -> None:
         _set(self, "youngs_modulus_pa",
-             _check_real("youngs_modulus_pa", self.youngs_modulus_pa, 1e6, 1e13))
+             check_real("youngs_modulus_pa", self.youngs_modulus_pa, 1e6, 1e13))
         _set(self, "poisson_ratio",
-             _check_real("poisson_ratio", self.poisson_ratio, -0.99, 0.5, high_open=True))
-        _set(self, "density_kg_m3", _check_real("density_kg_m3", self.density_kg_m3, 1.0, 1e5))
+             check_real("poisson_ratio", self.poisson_ratio, -0.99, 0.5, high_open=True))
+        _set(self, "density_kg_m3", check_real("density_kg_m3", self.density_kg_m3, 1.0, 1e5))
 
 
 @dataclass(frozen=True)
@@ -155,13 +128,13 @@ class Rotor:
     eccentricity_m: float = 1.0e-5
 
     def __post_init__(self) -> None:
-        _set(self, "mass_kg", _check_real("mass_kg", self.mass_kg, 0.0, 1e6, low_open=True))
-        _set(self, "inertia_radial_kg_m2", _check_real(
+        _set(self, "mass_kg", check_real("mass_kg", self.mass_kg, 0.0, 1e6, low_open=True))
+        _set(self, "inertia_radial_kg_m2", check_real(
             "inertia_radial_kg_m2", self.inertia_radial_kg_m2, 0.0, 1e6, low_open=True))
-        _set(self, "inertia_polar_kg_m2", _check_real(
+        _set(self, "inertia_polar_kg_m2", check_real(
             "inertia_polar_kg_m2", self.inertia_polar_kg_m2, 0.0, 1e6, low_open=True))
         _set(self, "eccentricity_m",
-             _check_real("eccentricity_m", self.eccentricity_m, 0.0, 1e-2))
+             check_real("eccentricity_m", self.eccentricity_m, 0.0, 1e-2))
 
 
 @dataclass(frozen=True)
@@ -177,13 +150,13 @@ class RaceWaviness:
     axial_phases_rad: tuple[float, ...] = ()
 
     def __post_init__(self) -> None:
-        orders = tuple(_check_int(f"waviness orders[{k}]", o, 1, 10000)
+        orders = tuple(check_int(f"waviness orders[{k}]", o, 1, 10000)
                        for k, o in enumerate(tuple(self.orders)))
         n = len(orders)
         _set(self, "orders", orders)
         for name, lo, hi in (("radial_amplitudes_m", 0.0, 1e-4), ("radial_phases_rad", None, None),
                              ("axial_amplitudes_m", 0.0, 1e-4), ("axial_phases_rad", None, None)):
-            vals = _as_float_tuple(name, getattr(self, name), lo, hi)
+            vals = check_real_tuple(name, getattr(self, name), lo, hi)
             if len(vals) == 0:
                 vals = (0.0,) * n
             if len(vals) != n:
@@ -208,11 +181,11 @@ class BallWaviness:
     oversize_m: tuple[float, ...] = ()
 
     def __post_init__(self) -> None:
-        orders = tuple(_check_int(f"ball waviness orders[{k}]", o, 1, 10000)
+        orders = tuple(check_int(f"ball waviness orders[{k}]", o, 1, 10000)
                        for k, o in enumerate(tuple(self.orders)))
         n = len(orders)
         _set(self, "orders", orders)
-        amps = _as_float_tuple("ball amplitudes_m", self.amplitudes_m, 0.0, 1e-4)
+        amps = check_real_tuple("ball amplitudes_m", self.amplitudes_m, 0.0, 1e-4)
         if len(amps) == 0:
             amps = (0.0,) * n
         if len(amps) != n:
@@ -220,19 +193,19 @@ class BallWaviness:
         _set(self, "amplitudes_m", amps)
         ph = tuple(self.phases_rad)
         if len(ph) and isinstance(ph[0], (tuple, list, np.ndarray)):
-            rows = tuple(_as_float_tuple(f"ball phases_rad[{j}]", r) for j, r in enumerate(ph))
+            rows = tuple(check_real_tuple(f"ball phases_rad[{j}]", r) for j, r in enumerate(ph))
             for j, r in enumerate(rows):
                 if len(r) != n:
                     raise ValueError(f"ball phases_rad[{j}] must have one entry per order ({n})")
             _set(self, "phases_rad", rows)
         else:
-            ph = _as_float_tuple("ball phases_rad", ph)
+            ph = check_real_tuple("ball phases_rad", ph)
             if len(ph) == 0:
                 ph = (0.0,) * n
             if len(ph) != n:
                 raise ValueError(f"ball phases_rad must have one entry per order ({n}), got {len(ph)}")
             _set(self, "phases_rad", ph)
-        _set(self, "oversize_m", _as_float_tuple("oversize_m", self.oversize_m, -1e-4, 1e-4))
+        _set(self, "oversize_m", check_real_tuple("oversize_m", self.oversize_m, -1e-4, 1e-4))
 
     @property
     def is_zero(self) -> bool:
@@ -263,16 +236,16 @@ class Loads:
 
     def __post_init__(self) -> None:
         _set(self, "radial_load_x_n",
-             _check_real("radial_load_x_n", self.radial_load_x_n, -1e6, 1e6))
+             check_real("radial_load_x_n", self.radial_load_x_n, -1e6, 1e6))
         _set(self, "radial_load_y_n",
-             _check_real("radial_load_y_n", self.radial_load_y_n, -1e6, 1e6))
+             check_real("radial_load_y_n", self.radial_load_y_n, -1e6, 1e6))
         _set(self, "axial_preload_n",
-             _check_real("axial_preload_n", self.axial_preload_n, 0.0, 1e6))
+             check_real("axial_preload_n", self.axial_preload_n, 0.0, 1e6))
 
 
 @dataclass(frozen=True)
 class Damping:
-    """Viscous damping added to eq 35 (the paper has none; see paper-notes).
+    """Viscous damping added to eq 35 (the paper has none; see docs/model.md).
 
     Model: a diagonal damping matrix, one coefficient per rotor DOF,
     ``c_k = 2 * damping_ratio * sqrt(K_kk * M_kk)``, where K_kk is the diagonal of the bearing
@@ -286,9 +259,9 @@ class Damping:
     coefficients: tuple[float, ...] | None = None
 
     def __post_init__(self) -> None:
-        _set(self, "damping_ratio", _check_real("damping_ratio", self.damping_ratio, 0.0, 1.0))
+        _set(self, "damping_ratio", check_real("damping_ratio", self.damping_ratio, 0.0, 1.0))
         if self.coefficients is not None:
-            c = _as_float_tuple("damping coefficients", self.coefficients, 0.0, 1e9)
+            c = check_real_tuple("damping coefficients", self.coefficients, 0.0, 1e9)
             if len(c) != 5:
                 raise ValueError(f"damping coefficients must have 5 entries (x, y, z, theta_x, theta_y), got {len(c)}")
             _set(self, "coefficients", c)
@@ -309,17 +282,17 @@ class Integrator:
     divergence_limit_m: float = 1.0e-3
 
     def __post_init__(self) -> None:
-        _set(self, "dt_s", _check_real("dt_s", self.dt_s, 0.0, 1e-3, low_open=True))
+        _set(self, "dt_s", check_real("dt_s", self.dt_s, 0.0, 1e-3, low_open=True))
         _set(self, "newmark_beta",
-             _check_real("newmark_beta", self.newmark_beta, 0.0, 0.5, low_open=True))
-        _set(self, "newmark_gamma", _check_real("newmark_gamma", self.newmark_gamma, 0.5, 1.0))
+             check_real("newmark_beta", self.newmark_beta, 0.0, 0.5, low_open=True))
+        _set(self, "newmark_gamma", check_real("newmark_gamma", self.newmark_gamma, 0.5, 1.0))
         _set(self, "newmark_tol_m",
-             _check_real("newmark_tol_m", self.newmark_tol_m, 0.0, 1e-6, low_open=True))
-        _set(self, "newmark_max_iter", _check_int("newmark_max_iter", self.newmark_max_iter, 1, 10000))
+             check_real("newmark_tol_m", self.newmark_tol_m, 0.0, 1e-6, low_open=True))
+        _set(self, "newmark_max_iter", check_int("newmark_max_iter", self.newmark_max_iter, 1, 10000))
         _set(self, "newton_tol_m",
-             _check_real("newton_tol_m", self.newton_tol_m, 0.0, 1e-6, low_open=True))
-        _set(self, "newton_max_iter", _check_int("newton_max_iter", self.newton_max_iter, 1, 10000))
-        _set(self, "divergence_limit_m", _check_real(
+             check_real("newton_tol_m", self.newton_tol_m, 0.0, 1e-6, low_open=True))
+        _set(self, "newton_max_iter", check_int("newton_max_iter", self.newton_max_iter, 1, 10000))
+        _set(self, "divergence_limit_m", check_real(
             "divergence_limit_m", self.divergence_limit_m, 0.0, 1.0, low_open=True))
 
 
@@ -330,6 +303,13 @@ class BearingParams:
     ``race_control`` selects the race-control hypothesis of App. B: ``"outer"`` (default; the
     classic high-speed assumption), ``"inner"``, or ``"auto"`` (Jones/Harris criterion per
     ball: outer-race control when Q_o a_o E(k_o) cos(alpha_i - alpha_o) > Q_i a_i E(k_i)).
+
+    ``include_centrifugal`` and ``include_gyroscopic`` switch the high-speed terms of the ball
+    model off (both True by default, the paper's full model): without the centrifugal force
+    F_e = m_b (D_p/2 + v_r) omega_m^2 (eq 29) the ball mass is taken as zero, and without the
+    gyroscopic moment M_g (eq 30, with the race-control friction it causes, eqs 28 and 32) the
+    ball inertia I_b is taken as zero; m_b and I_b enter the ball model only through these
+    terms. Used for the paper's three-model comparison at 2,000 rpm (section 3.1, Fig. 6).
     """
 
     geometry: BearingGeometry = field(default_factory=BearingGeometry)
@@ -342,6 +322,8 @@ class BearingParams:
     shaft_speed_rpm: float = 20000.0
     race_control: str = "outer"
     initial_cage_angle_rad: float = 0.0
+    include_centrifugal: bool = True
+    include_gyroscopic: bool = True
 
     def __post_init__(self) -> None:
         for name, cls in (("geometry", BearingGeometry), ("material", Material), ("rotor", Rotor),
@@ -350,11 +332,13 @@ class BearingParams:
             if not isinstance(getattr(self, name), cls):
                 raise ValueError(f"{name} must be a {cls.__name__}, got {type(getattr(self, name)).__name__}")
         _set(self, "shaft_speed_rpm",
-             _check_real("shaft_speed_rpm", self.shaft_speed_rpm, 0.0, 200000.0))
+             check_real("shaft_speed_rpm", self.shaft_speed_rpm, 0.0, 200000.0))
         if self.race_control not in RACE_CONTROLS:
             raise ValueError(f"race_control must be one of {RACE_CONTROLS}, got {self.race_control!r}")
         _set(self, "initial_cage_angle_rad",
-             _check_real("initial_cage_angle_rad", self.initial_cage_angle_rad))
+             check_real("initial_cage_angle_rad", self.initial_cage_angle_rad))
+        _set(self, "include_centrifugal", check_bool("include_centrifugal", self.include_centrifugal))
+        _set(self, "include_gyroscopic", check_bool("include_gyroscopic", self.include_gyroscopic))
         n = self.geometry.n_balls
         bw = self.waviness.balls
         if len(bw.oversize_m) not in (0, n):
@@ -369,7 +353,7 @@ class BearingParams:
     # --- derived quantities -------------------------------------------------------------------
     @property
     def shaft_speed_rad_s(self) -> float:
-        return self.shaft_speed_rpm * 2.0 * math.pi / 60.0
+        return rpm_to_rad_s(self.shaft_speed_rpm)
 
     @property
     def ball_mass_kg(self) -> float:
@@ -385,10 +369,6 @@ class BearingParams:
         """Return a copy with flat overrides applied (same keywords as :func:`default_params`)."""
         return _apply_overrides(self, overrides)
 
-    def to_arrays(self, damping_coefficients: np.ndarray | None = None):
-        """Convert to the flat arrays the numba kernels take (see physics.layout.pack_params)."""
-        from bearing_gym.physics.layout import pack_params  # local: params must not import physics at import time
-        return pack_params(self, damping_coefficients)
 
 
 # flat keyword -> (section, field); section None means a BearingParams field
@@ -396,6 +376,8 @@ _FLAT_KEYS: dict[str, tuple[str | None, str]] = {
     "shaft_speed_rpm": (None, "shaft_speed_rpm"),
     "race_control": (None, "race_control"),
     "initial_cage_angle_rad": (None, "initial_cage_angle_rad"),
+    "include_centrifugal": (None, "include_centrifugal"),
+    "include_gyroscopic": (None, "include_gyroscopic"),
     "damping_ratio": ("damping", "damping_ratio"),
     "damping_coefficients": ("damping", "coefficients"),
 }

@@ -1,4 +1,4 @@
-"""All the performance targets of issue 6 in one run: a table, or one JSON object.
+"""All the performance targets (docs/performance.md) in one run: a table, or one JSON object.
 
     python benchmarks/run_all.py            # table, ~3-5 min on a quiet 2-core machine
     python benchmarks/run_all.py --json     # one JSON object instead of the table

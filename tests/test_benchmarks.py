@@ -1,7 +1,8 @@
-"""``benchmarks/run_all.py --quick --json`` runs and reports every key of issue 6.
+"""``benchmarks/run_all.py --quick --json`` runs and reports every performance target.
 
-Only the shape of the output is checked (every key present, finite numbers, a bool per target):
-speed depends on the machine and its load and is never asserted here.
+A slow test (a benchmark run, about a minute): skipped unless BEARING_GYM_SLOW=1. Only the
+shape of the output is checked (every key present, finite numbers, a bool per target): speed
+depends on the machine and its load and is never asserted here.
 """
 
 import json
@@ -11,6 +12,8 @@ import subprocess
 import sys
 from pathlib import Path
 
+import pytest
+
 ROOT = Path(__file__).resolve().parent.parent
 SCRIPT = ROOT / "benchmarks" / "run_all.py"
 
@@ -18,6 +21,7 @@ KEYS = ("speedup_vs_numpy", "real_time_factor", "dt_convergence_rel_err", "env_s
         "vector_env_speedup_2_cores", "rss_growth_mb", "import_s", "first_reset_s")
 
 
+@pytest.mark.slow
 def test_run_all_quick_json_has_every_key_with_finite_values():
     r = subprocess.run([sys.executable, str(SCRIPT), "--quick", "--json"], cwd=ROOT,
                        capture_output=True, text=True, timeout=900, env=dict(os.environ))

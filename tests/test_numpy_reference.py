@@ -17,6 +17,7 @@ import bearing_gym
 from bearing_gym.physics import Simulator
 from bearing_gym.physics import ball as ball_mod
 from bearing_gym.physics.bearing import bearing_force
+from bearing_gym.physics.layout import pack_params
 from bearing_gym.physics.rotor import N_REC, R_F, R_V, R_X, S_CAGE_SPEED, integrate
 
 sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
@@ -34,7 +35,7 @@ def default_sim():
 def _setup(default_sim, race_control, **overrides):
     params = bearing_gym.default_params(race_control=race_control, **overrides)
     damping = default_sim.damping_coefficients
-    packed = params.to_arrays(damping)
+    packed = pack_params(params, damping)
     state = default_sim.state
     state.ball_out[:, ball_mod.B_CTRL] = 1.0 if race_control == "inner" else 0.0
     return params, packed, state, ref.NumpyModel(params, damping=damping)

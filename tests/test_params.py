@@ -3,7 +3,6 @@
 import dataclasses
 import math
 
-import numpy as np
 import pytest
 
 import bearing_gym
@@ -20,7 +19,7 @@ def test_table_1_defaults():
     assert (g.clearance_inner_m, g.clearance_outer_m) == (4e-6, 4e-6)
     assert (p.rotor.mass_kg, p.rotor.inertia_radial_kg_m2, p.rotor.inertia_polar_kg_m2) == (12.17, 0.0330, 0.0609)
     assert p.material.youngs_modulus_pa == 208e9 and p.material.poisson_ratio == 0.3
-    # paper-notes: m_b ~ 28.4 g, I_b = m_b D_b^2 / 10
+    # docs/model.md: m_b ~ 28.4 g, I_b = m_b D_b^2 / 10
     assert p.ball_mass_kg == pytest.approx(0.0284, abs=1e-4)
     assert p.ball_inertia_kg_m2 == pytest.approx(p.ball_mass_kg * 19.05e-3 ** 2 / 10)
 
@@ -107,11 +106,22 @@ def test_frozen():
         g.n_balls = 3
 
 
-def test_same_parameters_give_identical_arrays():
-    wav = Waviness(inner=RaceWaviness(orders=(18,), radial_amplitudes_m=(1e-6,)),
-                   balls=BallWaviness(orders=(2,), amplitudes_m=(1e-6,), phases_rad=(0.5,)))
-    a = bearing_gym.default_params(waviness=wav).to_arrays()
-    b = bearing_gym.default_params(waviness=wav).to_arrays()
-    for x, y in zip(a, b):
-        np.testing.assert_array_equal(x, y)
-    assert a.race_wav.shape == (1, 5) and a.ball_wav.shape == (1, 2) and a.ball_phase.shape == (18, 1)
+def test_high_speed_term_switches_are_validated_booleans():
+    p = bearing_gym.default_params()
+    assert p.include_centrifugal is True and p.include_gyroscopic is True
+    q = p.replace(include_centrifugal=False)
+    assert q.include_centrifugal is False and q.include_gyroscopic is True
+    for bad in (0, 1, "no", None, 0.0):
+        with pytest.raises(ValueError, match="include_gyroscopic must be True or False"):
+            p.replace(include_gyroscopic=bad)
+
+
+def test_params_imports_no_physics():
+    """params.py is below the physics: importing it loads no bearing_gym.physics module."""
+    import subprocess
+    import sys
+
+    code = ("import sys, bearing_gym.params; "
+            "print(sorted(m for m in sys.modules if m.startswith('bearing_gym.physics')))")
+    out = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert out.stdout.strip() == "[]"

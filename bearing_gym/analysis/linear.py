@@ -16,11 +16,11 @@ bifurcation in the sense of the paper's section 3.2.
 
 from __future__ import annotations
 
-import math
 
 import numpy as np
 
 from bearing_gym.params import BearingParams
+from bearing_gym.units import rpm_to_rad_s
 
 __all__ = ["equilibrium_eigenvalues"]
 
@@ -37,7 +37,8 @@ def equilibrium_eigenvalues(params: BearingParams) -> tuple[np.ndarray, np.ndarr
     M = np.diag([r.mass_kg] * 3 + [r.inertia_radial_kg_m2] * 2)
     C = np.diag(sim.damping_coefficients)
     G = np.zeros((5, 5))
-    g = r.inertia_polar_kg_m2 * params.shaft_speed_rpm * math.pi / 30.0
+    # I_z omega, computed as (I_z rpm) pi/30: the rounding of the earlier releases
+    g = rpm_to_rad_s(r.inertia_polar_kg_m2 * params.shaft_speed_rpm)
     G[3, 4] = g
     G[4, 3] = -g
     Mi = np.linalg.inv(M)

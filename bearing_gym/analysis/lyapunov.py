@@ -16,7 +16,7 @@ Floquet multipliers), λ1 ≈ 0 on a quasi-periodic torus, λ1 > 0 for chaos.
   :func:`rk4_flow` makes one from an ODE (fixed-step classical Runge-Kutta), used by the tests on
   the Lorenz system (λ1 ≈ 0.906 for σ = 10, ρ = 28, β = 8/3) and a damped oscillator
   (λ1 = −ζ ω_n exactly for an underdamped linear oscillator).
-* :func:`simulator_lyapunov` runs it on the bearing Simulator with the (X, V) coordinates of
+* :func:`simulator_lyapunov` runs the same iteration on the bearing Simulator with the (X, V) coordinates of
   :mod:`.simstate`; distances are measured in the scaled units of
   :func:`.simstate.state_scale`, and at each renormalisation the neighbour takes the reference's
   cage angle, shaft angle and ball states (the cage phase is treated as a forcing phase, as in
@@ -27,9 +27,11 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import Callable
+from typing import Any, Callable
 
 import numpy as np
+
+from bearing_gym.physics import SimulatorState
 
 from .simstate import StatePerturber, shaft_period_steps, state_scale, state_vector
 
@@ -82,66 +84,76 @@ def benettin(flow: Callable[[np.ndarray, float], np.ndarray], x0: np.ndarray, *,
     ``n_transient`` intervals are run first and not counted (the neighbour aligns with the
     most unstable direction); ``direction``: initial separation (default: all ones).
     """
+    result, _ = _benettin(flow, np.array(x0, dtype=float), _as_vector, _displaced, tau=tau,
+                          n_intervals=n_intervals, d0=d0, n_transient=n_transient,
+                          weights=weights, direction=direction)
+    return result
+
+
+def _as_vector(x: np.ndarray) -> np.ndarray:
+    return x
+
+
+def _displaced(_base: np.ndarray, vector: np.ndarray) -> np.ndarray:
+    return vector
+
+
+def _benettin(flow: Callable[[Any, float], Any], x0: Any, vector: Callable[[Any], np.ndarray],
+              displaced: Callable[[Any, np.ndarray], Any], *, tau: float, n_intervals: int,
+              d0: float, n_transient: int, weights: np.ndarray | None,
+              direction: np.ndarray | None) -> tuple[LyapunovResult, Any]:
+    """Benettin's iteration on states of any kind: ``vector(state)`` is the phase-space vector
+    the distance is measured on and ``displaced(base, vector)`` the state ``base`` moved to
+    ``vector`` (the identity for plain vectors; for the Simulator it keeps the reference's
+    forcing phase and ball states). Returns the result and the reference's end state."""
     if n_intervals < 1:
-        raise ValueError("n_intervals must be >= 1")
-    xa = np.array(x0, dtype=float)
-    w = np.ones_like(xa) if weights is None else np.asarray(weights, dtype=float)
-    u = np.ones_like(xa) if direction is None else np.asarray(direction, dtype=float)
+        raise ValueError(f"n_intervals must be >= 1, got {n_intervals}")
+    xa = x0
+    va = vector(xa)
+    w = np.ones_like(va) if weights is None else np.asarray(weights, dtype=float)
+    u = np.ones_like(va) if direction is None else np.asarray(direction, dtype=float)
     u = u / np.linalg.norm(w * u)
-    xb = xa + d0 * u
+    xb = displaced(xa, va + d0 * u)
     total = 0.0
     running = []
     for k in range(n_transient + n_intervals):
         xa = flow(xa, tau)
         xb = flow(xb, tau)
-        sep = xb - xa
+        va = vector(xa)
+        sep = vector(xb) - va
         d = float(np.linalg.norm(w * sep))
         if not (d > 0 and math.isfinite(d)):
             raise FloatingPointError("the two trajectories coincided or diverged; change d0 or tau")
         if k >= n_transient:
             total += math.log(d / d0)
             running.append(total / ((k - n_transient + 1) * tau))
-        xb = xa + sep * (d0 / d)
+        xb = displaced(xa, va + sep * (d0 / d))
     running_arr = np.array(running)
-    return LyapunovResult(float(running_arr[-1]), running_arr,
-                          tau * np.arange(1, n_intervals + 1), float(tau), float(d0))
+    return (LyapunovResult(float(running_arr[-1]), running_arr,
+                           tau * np.arange(1, n_intervals + 1), float(tau), float(d0)), xa)
 
 
 def simulator_lyapunov(sim, duration_s: float, *, tau_s: float | None = None, d0_m: float = 1e-8,
                        transient_s: float = 0.0) -> LyapunovResult:
     """Largest Lyapunov exponent (1/s) of the Simulator's motion from its current state over
-    ``duration_s`` (after ``transient_s`` not counted). ``tau_s``: renormalisation interval
-    (default: one shaft period, rounded to whole steps); ``d0_m``: separation in scaled units
-    (metres at the groove radius). The Simulator ends at the reference trajectory's end state.
-    Cost: twice the simulated time."""
+    ``duration_s`` (after ``transient_s`` not counted): :func:`benettin`'s iteration on
+    Simulator states. ``tau_s``: renormalisation interval (default: one shaft period, rounded
+    to whole steps); ``d0_m``: separation in scaled units (metres at the groove radius). The
+    Simulator ends at the reference trajectory's end state. Cost: twice the simulated time."""
     if tau_s is None:
-        n_steps, tau_s = shaft_period_steps(sim)
+        _, tau_s = shaft_period_steps(sim)
     n = max(1, int(round(duration_s / tau_s)))
     n_tr = int(round(transient_s / tau_s))
     weights = 1.0 / state_scale(sim)
     perturber = StatePerturber(sim)
-    ref = sim.state
-    u = np.ones(10) / weights
-    u /= np.linalg.norm(weights * u)
-    pert = perturber.make(ref, state_vector(ref) + d0_m * u)
-    total = 0.0
-    running = []
-    for k in range(n_tr + n):
-        sim.state = ref
-        sim.advance(tau_s)
-        ref = sim.state
-        sim.state = pert
-        sim.advance(tau_s)
-        pert_end = sim.state
-        sep = state_vector(pert_end) - state_vector(ref)
-        d = float(np.linalg.norm(weights * sep))
-        if not (d > 0 and math.isfinite(d)):
-            raise FloatingPointError("the two trajectories coincided or diverged; change d0_m")
-        if k >= n_tr:
-            total += math.log(d / d0_m)
-            running.append(total / ((k - n_tr + 1) * tau_s))
-        pert = perturber.make(ref, state_vector(ref) + sep * (d0_m / d))
-    sim.state = ref
-    running_arr = np.array(running)
-    return LyapunovResult(float(running_arr[-1]), running_arr, tau_s * np.arange(1, n + 1),
-                          float(tau_s), float(d0_m))
+
+    def flow(state: SimulatorState, tau: float) -> SimulatorState:
+        sim.state = state
+        sim.advance(tau)
+        return sim.state
+
+    result, end = _benettin(flow, sim.state, state_vector, perturber.make, tau=tau_s,
+                            n_intervals=n, d0=d0_m, n_transient=n_tr, weights=weights,
+                            direction=np.ones(10) / weights)
+    sim.state = end
+    return result

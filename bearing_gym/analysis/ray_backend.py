@@ -12,7 +12,7 @@ pool's (the physics is deterministic; rows travel by pickle, floats exactly).
 
 Ray is an optional dependency (``pip install 'bearing-gym[ray]'``), imported only when an
 executor is made. Every node needs the same bearing-gym install: the workers import the task
-functions by name (``bearing_gym.analysis.sweeps.continuation_chain``), and importing the
+functions by name (``bearing_gym.analysis.sweeps.points.continuation_chain``), and importing the
 package points numba's cache at ``$NUMBA_CACHE_DIR`` (else ``~/.cache/bearing_gym/numba``) of
 the worker's node, keyed by the hash of the installed source, so each node compiles the kernels
 once and then reuses them; a worker started by a local ``ray.init`` inherits this process's

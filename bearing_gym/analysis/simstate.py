@@ -22,6 +22,7 @@ from bearing_gym.physics.bearing import bearing_force
 from bearing_gym.physics.layout import (I_NGAMMA, I_OMEGA, I_PX, I_PY, I_PZ, I_RP, PackedParams,
                                         pack_params)
 from bearing_gym.physics.rotor import S_CAGE, S_SHAFT, solve_acceleration
+from bearing_gym.units import rpm_to_rad_s
 
 __all__ = ["STATE_LABELS", "state_vector", "state_scale", "StatePerturber", "shaft_period_steps"]
 
@@ -40,7 +41,7 @@ def state_scale(sim: Simulator) -> np.ndarray:
     v ~ ω X at the shaft frequency). Dividing a perturbation by this vector makes its
     components comparable; eigenvalues do not depend on it."""
     rp = float(pack_params(sim.params).prm[I_RP])
-    w = max(sim.shaft_speed_rpm * math.pi / 30.0, 1.0)
+    w = max(rpm_to_rad_s(sim.shaft_speed_rpm), 1.0)
     pos = np.array([1.0, 1.0, 1.0, 1.0 / rp, 1.0 / rp])
     return np.concatenate([pos, pos * w])
 
@@ -50,7 +51,7 @@ def shaft_period_steps(sim: Simulator) -> tuple[int, float]:
 
     Raises ValueError at zero speed (no stroboscopic section exists) or if one period is
     shorter than 4 steps."""
-    w = sim.shaft_speed_rpm * math.pi / 30.0
+    w = rpm_to_rad_s(sim.shaft_speed_rpm)
     if w <= 0:
         raise ValueError("the shaft is not turning: a stroboscopic section needs shaft_speed_rpm > 0")
     n = int(round(2.0 * math.pi / w / sim.dt_s))
@@ -74,7 +75,7 @@ class StatePerturber:
         prm[I_PZ] = sim.axial_preload_n
         prm[I_PX] = sim.radial_load_x_n
         prm[I_PY] = sim.radial_load_y_n
-        prm[I_OMEGA] = sim.shaft_speed_rpm * math.pi / 30.0
+        prm[I_OMEGA] = rpm_to_rad_s(sim.shaft_speed_rpm)
         prm[I_NGAMMA] = 0.0        # solve_acceleration then gives M a = F + P - (C + G) v
         self._packed = PackedParams(prm, packed.race_wav, packed.ball_wav, packed.ball_phase,
                                     packed.ball_size)

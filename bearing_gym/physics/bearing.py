@@ -7,7 +7,8 @@ import math
 
 from numba import njit
 
-from .ball import B_CTRL, B_LAMI, B_QI, B_WM, BALL_OK, prefers_outer_control, solve_ball
+from .ball import (B_CI, B_CO, B_CTRL, B_LAMI, B_MG, B_QI, B_QO, B_SI, B_SO, B_WM, BALL_OK,
+                   prefers_outer_control, solve_ball)
 from .layout import (CONTROL_AUTO, CONTROL_INNER, I_CONTROL, I_DB, I_NB, I_OMEGA, I_PHI0, I_RI,
                      I_RP, I_ZP)
 from .waviness import ball_waviness, race_waviness
@@ -58,8 +59,9 @@ def bearing_force(U, cage_angle, shaft_angle, psi_b, prm, race_wav, ball_wav, ba
         vr, vz, st = solve_ball(ball_v[j, 0], ball_v[j, 1], ur, uz, dist_i, dist_o, omega,
                                 inner_ctrl, prm, ball_out, j)
         if control == CONTROL_AUTO and st == BALL_OK:
-            want_outer = prefers_outer_control(ball_out[j, 0], ball_out[j, 1], ball_out[j, 2],
-                                               ball_out[j, 3], ball_out[j, 4], ball_out[j, 5], prm)
+            want_outer = prefers_outer_control(ball_out[j, B_QI], ball_out[j, B_QO],
+                                               ball_out[j, B_CI], ball_out[j, B_SI],
+                                               ball_out[j, B_CO], ball_out[j, B_SO], prm)
             if want_outer == inner_ctrl:
                 inner_ctrl = not inner_ctrl
                 vr, vz, st = solve_ball(vr, vz, ur, uz, dist_i, dist_o, omega, inner_ctrl,
@@ -68,10 +70,10 @@ def bearing_force(U, cage_angle, shaft_angle, psi_b, prm, race_wav, ball_wav, ba
         ball_v[j, 1] = vz
         if st > worst:
             worst = st
-        qi = ball_out[j, 0]
-        ci = ball_out[j, 2]
-        si = ball_out[j, 3]
-        mg = ball_out[j, 8]
+        qi = ball_out[j, B_QI]
+        ci = ball_out[j, B_CI]
+        si = ball_out[j, B_SI]
+        mg = ball_out[j, B_MG]
         lam_i = ball_out[j, B_LAMI]
         # eq 32 (corrected): force and moment of ball j on the inner race
         q_r = -qi * ci - lam_i * mg / db * si

@@ -20,7 +20,7 @@ from .ball import (B_CI, B_CO, B_CTRL, B_DI, B_DO, B_MG, B_QI, B_QO, B_SI, B_SO,
 from .bearing import bearing_force, cage_speed
 from .kinematics import race_control_kinematics
 from .layout import (CONTROL_INNER, I_CONTROL, I_GAM, I_IB, I_NT_TOL, I_OMEGA, I_RP,
-                     PackedParams)
+                     PackedParams, pack_params)
 
 __all__ = ["StaticEquilibrium", "static_equilibrium", "EquilibriumError"]
 
@@ -141,10 +141,11 @@ def static_equilibrium(params, *, max_iter: int = 200, tol_n: float = 1e-4) -> S
     Raises :class:`EquilibriumError` if the iteration does not converge (for instance when the
     loads exceed what the bearing can carry).
     """
-    packed = params.to_arrays()
+    packed = pack_params(params)
     prm = packed.prm
     rp = prm[I_RP]
-    force = _ForceEvaluator(packed, params.initial_cage_angle_rad * 0.0)
+    # cage angle 0 at t = 0; the initial cage angle phi_0 is in prm (ball angles, eq 6)
+    force = _ForceEvaluator(packed, 0.0)
     P = np.array([params.loads.radial_load_x_n, params.loads.radial_load_y_n,
                   params.loads.axial_preload_n, 0.0, 0.0])
     scale = np.array([1.0, 1.0, 1.0, 1.0 / rp, 1.0 / rp])     # moments -> N at r_p

@@ -2,7 +2,7 @@
 
 With the outer race stationary and the inner race at ``omega`` (rad/s), the ball orbital speed
 omega_m, spin speed omega_b and the gyroscopic moment M_g = I_b omega_b omega_m sin(beta)
-(eq 30, keeping the sign of omega_b, paper-notes) are closed-form in alpha_i, alpha_o:
+(eq 30, keeping the sign of omega_b, docs/model.md) are closed-form in alpha_i, alpha_o:
 
 outer-race control (B.6-B.8), S = sqrt(1 + 2 gamma cos a_o + gamma^2), sin(beta) = sin a_o / S:
     omega_m = omega (1 - gamma cos a_i) / (1 + cos(a_i - a_o))

@@ -1,6 +1,7 @@
 """Layout of the flat float64 arrays handed to the numba kernels.
 
-The frozen dataclasses of :mod:`bearing_gym.params` are converted once, here, to:
+The frozen dataclasses of :mod:`bearing_gym.params` are converted once, here
+(:func:`pack_params`), to:
 
 * ``prm``: one float64 vector of scalar constants, indexed by the ``I_*`` constants below
   (numba treats module-level integers as compile-time constants);
@@ -107,11 +108,13 @@ def pack_params(p: "BearingParams", damping_coefficients: np.ndarray | None = No
     prm[I_CI] = g.clearance_inner_m
     prm[I_CO] = g.clearance_outer_m
     prm[I_EEFF] = mat.youngs_modulus_pa / (1.0 - mat.poisson_ratio ** 2)
-    prm[I_MB] = p.ball_mass_kg
-    prm[I_IB] = p.ball_inertia_kg_m2
+    # m_b and I_b enter the ball model only through the centrifugal force (eq 29) and the
+    # gyroscopic moment (eq 30): a switched-off term is a zero mass or inertia
+    prm[I_MB] = p.ball_mass_kg if p.include_centrifugal else 0.0
+    prm[I_IB] = p.ball_inertia_kg_m2 if p.include_gyroscopic else 0.0
     prm[I_GAM] = db / dp
     # the inner groove centre lies on the nominal contact line, radially outside the ball
-    # centre (paper-notes; consistent with eqs 18-19): r_p = D_p/2 + L_i cos a0, z_p = L_i sin a0
+    # centre (docs/model.md; consistent with eqs 18-19): r_p = D_p/2 + L_i cos a0, z_p = L_i sin a0
     prm[I_RP] = dp / 2.0 + li0 * math.cos(a0)
     prm[I_ZP] = li0 * math.sin(a0)
     prm[I_LI0] = li0

@@ -27,18 +27,15 @@ import math
 import numpy as np
 from numba import njit
 
-from .ball import B_VR_PREV, B_VZ_PREV, B_WB
+from .ball import B_QI, B_VR_PREV, B_VZ_PREV, B_WB
 from .bearing import bearing_force, cage_speed
 from .layout import (I_CTX, I_CTY, I_CX, I_CY, I_CZ, I_DIVLIM, I_DT, I_ECC, I_IR, I_IZ, I_MASS,
                      I_NB, I_NBETA, I_NGAMMA, I_NM_MAXIT, I_NM_TOL, I_OMEGA, I_PX, I_PY, I_PZ,
                      I_RP)
+from .status import ST_DIVERGED, ST_NEWMARK_NOT_CONVERGED, ST_OK  # noqa: F401 - ST_OK re-exported
 
-# status codes of integrate()
-ST_OK = 0
-ST_BALL_NOT_CONVERGED = 1
-ST_BALL_SINGULAR = 2
-ST_NEWMARK_NOT_CONVERGED = 3
-ST_DIVERGED = 4
+# status codes of integrate(): .status (ST_OK, ST_NEWMARK_NOT_CONVERGED, ST_DIVERGED; the ball
+# solver's codes pass through)
 
 # scalar state vector ``scal``
 S_T = 0            # time (s)
@@ -204,7 +201,7 @@ def integrate(prm, race_wav, ball_wav, ball_phase, ball_size, X, V, A, scal, psi
             rec[rows, R_T] = scal[S_T]
             n_inner = 0
             for j in range(n):
-                if ball_out[j, 0] > 0.0:
+                if ball_out[j, B_QI] > 0.0:
                     n_inner += 1
             for k in range(5):
                 rec[rows, R_X + k] = X[k]

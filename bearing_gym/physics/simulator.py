@@ -2,12 +2,13 @@
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 
 import numpy as np
 
-from bearing_gym.params import BearingParams, _check_real
+from bearing_gym.params import BearingParams
+from bearing_gym.units import rad_s_to_rpm, rpm_to_rad_s
+from bearing_gym.validation import check_real
 
 from .ball import B_CTRL, B_VR_PREV, B_VZ_PREV, N_BALL_OUT
 from .bearing import bearing_force, cage_speed
@@ -17,16 +18,10 @@ from .layout import (CONTROL_INNER, I_CONTROL, I_CTX, I_CX, I_DT, I_IR, I_MASS, 
 from .rotor import (N_REC, N_SCAL, R_CAGE_ANGLE, R_CAGE_SPEED, R_F, R_N_INNER, R_SHAFT, R_T, R_V,
                     R_X, S_A_PREV, S_A_PREV2, S_CAGE, S_CAGE_SPEED, S_SHAFT, S_T, integrate,
                     solve_acceleration)
+from .status import status_text
 
 __all__ = ["Simulator", "SimulatorState", "SimulationRecord", "SimulationError"]
 
-_STATUS_TEXT = {
-    0: "ok",
-    1: "ball equilibrium (eq 31) did not converge",
-    2: "ball equilibrium Jacobian singular",
-    3: "Newmark equilibrium iterations did not converge",
-    4: "diverged: displacement beyond integrator.divergence_limit_m or not finite",
-}
 
 
 class SimulationError(RuntimeError):
@@ -161,7 +156,7 @@ class Simulator:
         st = bearing_force(s.X, 0.0, 0.0, s.psi_b, prm, p.race_wav, p.ball_wav, p.ball_phase,
                            p.ball_size, s.ball_v, s.ball_out, F)
         if st != 0:
-            raise SimulationError(f"initial bearing force failed: {_STATUS_TEXT[st]}", None)
+            raise SimulationError(f"initial bearing force failed: {status_text(st)}", None)
         s.ball_out[:, B_VR_PREV] = s.ball_v[:, 0]     # at rest: no extrapolation on step 1
         s.ball_out[:, B_VZ_PREV] = s.ball_v[:, 1]
         omega = prm[I_OMEGA]
@@ -197,7 +192,7 @@ class Simulator:
 
     @axial_preload_n.setter
     def axial_preload_n(self, value: float) -> None:
-        self._packed.prm[I_PZ] = _check_real("axial_preload_n", value, 0.0, 1e6)
+        self._packed.prm[I_PZ] = check_real("axial_preload_n", value, 0.0, 1e6)
 
     @property
     def radial_load_x_n(self) -> float:
@@ -205,7 +200,7 @@ class Simulator:
 
     @radial_load_x_n.setter
     def radial_load_x_n(self, value: float) -> None:
-        self._packed.prm[I_PX] = _check_real("radial_load_x_n", value, -1e6, 1e6)
+        self._packed.prm[I_PX] = check_real("radial_load_x_n", value, -1e6, 1e6)
 
     @property
     def radial_load_y_n(self) -> float:
@@ -213,15 +208,15 @@ class Simulator:
 
     @radial_load_y_n.setter
     def radial_load_y_n(self, value: float) -> None:
-        self._packed.prm[I_PY] = _check_real("radial_load_y_n", value, -1e6, 1e6)
+        self._packed.prm[I_PY] = check_real("radial_load_y_n", value, -1e6, 1e6)
 
     @property
     def shaft_speed_rpm(self) -> float:
-        return float(self._packed.prm[I_OMEGA] * 60.0 / (2.0 * math.pi))
+        return float(rad_s_to_rpm(self._packed.prm[I_OMEGA]))
 
     @shaft_speed_rpm.setter
     def shaft_speed_rpm(self, value: float) -> None:
-        self._packed.prm[I_OMEGA] = _check_real("shaft_speed_rpm", value, 0.0, 200000.0) * 2.0 * math.pi / 60.0
+        self._packed.prm[I_OMEGA] = rpm_to_rad_s(check_real("shaft_speed_rpm", value, 0.0, 200000.0))
 
     @property
     def dt_s(self) -> float:
@@ -234,7 +229,7 @@ class Simulator:
         return every ``record_every``-th step. On an integrator failure raise
         :class:`SimulationError` (or, with ``raise_on_error=False``, return the rows computed so
         far with ``record.status`` saying why)."""
-        duration_s = _check_real("duration_s", duration_s, 0.0, 1e6)
+        duration_s = check_real("duration_s", duration_s, 0.0, 1e6)
         if isinstance(record_every, bool) or not isinstance(record_every, (int, np.integer)) or record_every < 1:
             raise ValueError(f"record_every must be an integer >= 1, got {record_every!r}")
         dt = self.dt_s
@@ -245,11 +240,11 @@ class Simulator:
         status, done, rows = integrate(p.prm, p.race_wav, p.ball_wav, p.ball_phase, p.ball_size,
                                        s.X, s.V, s.A, s.scal, s.psi_b, s.ball_v, s.ball_out,
                                        n_steps, int(record_every), rec)
-        record = SimulationRecord(rec[:rows], _STATUS_TEXT[int(status)])
+        record = SimulationRecord(rec[:rows], status_text(status))
         if status != 0 and raise_on_error:
             raise SimulationError(
                 f"integration stopped at t = {self.t:.6g} s after {done} of {n_steps} steps: "
-                f"{_STATUS_TEXT[int(status)]}", record)
+                f"{status_text(status)}", record)
         return record
 
 

@@ -1,7 +1,7 @@
 """Race and ball waviness (paper eqs 9-14, with the eqs 9-12 erratum corrected).
 
 Waviness is a function of the angle measured on the ring, so the ball-spacing term is
-multiplied by the order n (paper-notes): at ball j, with phi_j the ball angle of eq 6 and
+multiplied by the order n (docs/model.md, errata): at ball j, with phi_j the ball angle of eq 6 and
 theta_s the shaft angle (the inner race turns with the shaft, the outer race is fixed),
 
     p_ij = sum_n A_in cos(n (phi_j - theta_s) + xi_in)      q_ij = sum_n B_in cos(... + eta_in)

@@ -33,3 +33,28 @@ def test_damped_oscillator_exponent_is_minus_zeta_omega():
     assert res.exponent < 0
     assert res.exponent == pytest.approx(-zeta * w, rel=0.02)
     assert res.running.shape == (200,) and res.times[-1] == pytest.approx(50.0)
+
+
+def test_simulator_lyapunov_on_a_stable_orbit_is_negative_and_ends_on_the_reference():
+    """On the period-1 orbit at 800 N a separation decays; the Simulator is left at the end of
+    the unperturbed (reference) trajectory, as advancing a copy in the same steps gives."""
+    import bearing_gym
+    from bearing_gym.analysis.lyapunov import simulator_lyapunov
+    from bearing_gym.analysis.simstate import shaft_period_steps
+    from bearing_gym.physics import Simulator
+
+    sim = Simulator(bearing_gym.default_params(axial_preload_n=800.0))
+    sim.advance(0.05)
+    start = sim.state
+    res = simulator_lyapunov(sim, 0.03, transient_s=0.006)
+    _, tau = shaft_period_steps(sim)
+    n = int(round(0.03 / tau))
+    assert res.tau == tau and res.running.shape == (n,) and res.exponent == res.running[-1]
+    assert res.exponent < 0
+    twin = Simulator(bearing_gym.default_params(axial_preload_n=800.0))
+    twin.state = start
+    for _ in range(n + int(round(0.006 / tau))):
+        twin.advance(tau)
+    np.testing.assert_array_equal(sim.state.X, twin.state.X)
+    np.testing.assert_array_equal(sim.state.V, twin.state.V)
+    assert sim.t == twin.t

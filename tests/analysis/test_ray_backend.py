@@ -12,6 +12,8 @@ ray = pytest.importorskip("ray")
 
 import bearing_gym  # noqa: E402
 from bearing_gym import cli  # noqa: E402
+from bearing_gym.analysis.sweeps import store  # noqa: E402
+from bearing_gym.cli import sweep as cli_sweep  # noqa: E402
 from bearing_gym.analysis.ray_backend import RayExecutor  # noqa: E402
 from bearing_gym.analysis.sweeps import SerialExecutor, SweepSettings, stability_map  # noqa: E402
 
@@ -99,14 +101,14 @@ def test_sweep_waits_for_late_appends_before_the_final_write(tmp_path, monkeypat
         def shutdown(self, wait=True):
             pass
 
-    slow = cli._ResumingExecutor._write_rows
+    slow = store.ResumingExecutor._write_rows
 
     def late(self, fut):
         time.sleep(0.5)
         slow(self, fut)
 
-    monkeypatch.setattr(cli._ResumingExecutor, "_write_rows", late)
-    monkeypatch.setattr(cli, "_sweep_pool", lambda *a: UnjoinedThreads)
+    monkeypatch.setattr(store.ResumingExecutor, "_write_rows", late)
+    monkeypatch.setattr(cli_sweep, "sweep_pool", lambda *a: UnjoinedThreads)
     out = tmp_path / "late.csv"
     assert cli.main(["sweep", *CLI_GRID, "--workers", "2", "--out", str(out)]) == 0
     time.sleep(1.0)                       # a late append would have landed by now

@@ -9,6 +9,7 @@ import pytest
 from bearing_gym.analysis.poincare import angle_section, cage_section, section_spread, shaft_section
 from bearing_gym.analysis.spectra import (ball_pass_frequency, ball_pass_frequency_inner,
                                           power_spectrum, principal_frequency, spectral_peaks)
+from bearing_gym.units import rpm_to_rad_s
 
 
 @pytest.mark.parametrize("method", ["welch", "periodogram"])
@@ -38,7 +39,7 @@ def test_two_tones_are_ranked_by_power():
 
 def test_ball_pass_frequencies():
     # 18 balls, cage at 0.4825 of 20,000 rpm: N w_c / 2 pi and N (w - w_c) / 2 pi
-    w = 20000 * math.pi / 30
+    w = rpm_to_rad_s(20000)
     assert ball_pass_frequency(0.4825 * w, 18) == pytest.approx(18 * 0.4825 * 20000 / 60)
     assert ball_pass_frequency_inner(w, 0.4825 * w, 18) == pytest.approx(18 * 0.5175 * 20000 / 60)
 

@@ -2,12 +2,14 @@
 
 import math
 
+import numpy as np
 import pytest
 
 import bearing_gym
-from bearing_gym.analysis.sweeps import (COLUMNS, SerialExecutor, SweepSettings, continuation_chain,
-                                         critical_preload, load_csv, save_csv, save_npz,
-                                         stability_map, stable_windows)
+from bearing_gym.analysis.sweeps import (COLUMNS, SerialExecutor, SweepSettings, axial_index,
+                                         continuation_chain, critical_preload, load_csv, save_csv,
+                                         save_npz, stability_map, stable_windows)
+from bearing_gym.analysis.sweeps.io import truthy
 
 TINY = SweepSettings(settle_s=0.005, measure_s=0.01, cold_settle_s=0.005, floquet=False)
 
@@ -34,6 +36,12 @@ def test_stability_map_cold_with_the_default_process_pool(tmp_path):
     assert [r["axial_preload_n"] for r in back] == [800.0, 700.0]
     assert back[0]["qpi"] == pytest.approx(rows[0]["qpi"], rel=1e-9)
     save_npz(rows, tmp_path / "s.npz")
+    with np.load(tmp_path / "s.npz") as z:
+        assert set(COLUMNS) <= set(z.files)
+        np.testing.assert_array_equal(z["axial_preload_n"], [800.0, 700.0])
+        np.testing.assert_array_equal(z["qpi"], [r["qpi"] for r in rows])      # exactly
+        assert z["periodic"].dtype == bool and list(z["periodic"]) == [r["periodic"] for r in rows]
+        assert list(z["mode"]) == ["cold", "cold"] and z["mode"].dtype.kind == "U"
 
 
 def test_stability_map_with_a_pluggable_executor_and_floquet():
@@ -63,3 +71,15 @@ def test_critical_preload_and_windows_on_synthetic_rows():
 def test_settings_are_validated():
     with pytest.raises(ValueError, match="measure_s"):
         SweepSettings(measure_s=0.0)
+
+
+def test_axial_index_picks_the_least_stable_mode_with_an_axial_share():
+    assert axial_index([0.99, 0.8, 0.85, 0.7], [0.05, 0.3, 0.2, 0.9]) == 2
+    assert axial_index([0.99, 0.5], [0.05, 0.1]) == 1          # none axial: the most axial one
+    with pytest.raises(ValueError, match="one length"):
+        axial_index([0.9, 0.8], [0.5])
+
+
+def test_truthy_reads_csv_cells_and_values():
+    assert [truthy(v) for v in ("True", " yes", "1", "False", "0", "", True, 0)] == \
+        [True, True, True, False, False, False, True, False]

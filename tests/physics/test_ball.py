@@ -11,6 +11,7 @@ import bearing_gym
 from bearing_gym.physics import static_equilibrium
 from bearing_gym.physics.ball import N_BALL_OUT, ball_residual, solve_ball
 from bearing_gym.physics.layout import I_NT_TOL as NT_TOL
+from bearing_gym.physics.layout import pack_params
 
 RPM_CASES = (2000.0, 20000.0)
 _BASE = {}
@@ -20,7 +21,7 @@ def base_state(rpm):
     if rpm not in _BASE:
         p = bearing_gym.default_params(shaft_speed_rpm=rpm)
         eq = static_equilibrium(p)
-        prm = p.to_arrays().prm
+        prm = pack_params(p).prm
         g = p.geometry
         _BASE[rpm] = dict(prm=prm, u=(0.0, eq.U[2]),
                           v=(eq.ball_displacement_r[0], eq.ball_displacement_z[0]),
@@ -71,7 +72,7 @@ def test_free_ball_at_speed_is_held_against_outer_race_by_centrifugal_force():
     """Inner race pulled away (no inner contact): zero inner load, the outer load balances the
     centrifugal force m_b (D_p/2 + v_r) omega_m^2 (eq 29) and the ball sits at alpha_o ~ 0."""
     p = bearing_gym.default_params()
-    prm = p.to_arrays().prm
+    prm = pack_params(p).prm
     g = p.geometry
     out = np.zeros((1, N_BALL_OUT))
     vr, vz, status = solve_ball(0.0, 0.0, -50e-6, -20e-6, g.inner_groove_radius_m - g.ball_diameter_m / 2,
@@ -90,7 +91,7 @@ def test_free_ball_at_speed_is_held_against_outer_race_by_centrifugal_force():
 
 def test_unloaded_ball_at_rest_carries_nothing():
     p = bearing_gym.default_params(shaft_speed_rpm=0.0)
-    prm = p.to_arrays().prm
+    prm = pack_params(p).prm
     g = p.geometry
     out = np.zeros((1, N_BALL_OUT))
     vr, vz, status = solve_ball(0.0, 0.0, 0.0, 0.0, g.inner_groove_radius_m - g.ball_diameter_m / 2,

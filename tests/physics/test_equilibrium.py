@@ -91,7 +91,7 @@ def test_contact_angles_move_with_speed():
 
 
 def test_reference_numbers_at_20000_rpm_800_n(default_equilibrium):
-    """paper-notes reference (Jones-Harris, outer-race control, c = 4 um): alpha_i ~ 33.9 deg,
+    """docs/model.md reference numbers (Jones-Harris, outer-race control, c = 4 um): alpha_i ~ 33.9 deg,
     alpha_o ~ 0.9 deg, Q_i ~ 80 N, Q_o ~ 2.10 kN, cage/shaft ~ 0.4825."""
     eq = default_equilibrium
     assert math.degrees(eq.alpha_i[0]) == pytest.approx(33.9, abs=0.2)
@@ -118,7 +118,7 @@ def test_low_speed_cage_speed_is_epicyclic(preload):
 
 
 def test_kinematic_ratio_at_nominal_angle():
-    """paper-notes: low-speed kinematic cage/shaft ratio 0.4383 at alpha_0 = 25 deg."""
+    """docs/model.md: low-speed kinematic cage/shaft ratio 0.4383 at alpha_0 = 25 deg."""
     p = bearing_gym.default_params()
     assert 0.5 * (1 - p.geometry.diameter_ratio * math.cos(p.geometry.contact_angle_rad)) == pytest.approx(0.4383, abs=1e-4)
 

@@ -66,7 +66,7 @@ def test_exact_solution_reduces_to_sphere_on_sphere():
 
 
 def test_reference_constants_at_25_degrees():
-    """paper-notes: Brewe-Hamrock constants at 25 deg, inner ~3.18e10, outer ~4.19e10 N/m^1.5."""
+    """docs/model.md: Brewe-Hamrock constants at 25 deg, inner ~3.18e10, outer ~4.19e10 N/m^1.5."""
     a = math.radians(25)
     k_i, _ = hertz_constant(inner_rx(DB, DP, math.cos(a), math.sin(a))[0], RI / (2 * RI / DB - 1), E_EFF)
     k_o, _ = hertz_constant(outer_rx(DB, DP, math.cos(a), math.sin(a))[0], RO / (2 * RO / DB - 1), E_EFF)

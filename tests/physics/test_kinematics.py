@@ -50,7 +50,7 @@ def test_pure_rolling_and_no_spin_at_controlling_race(alpha_i, alpha_o, inner):
     # no spin at the controlling race
     controlling = "inner" if inner else "outer"
     assert abs(c[controlling][1]) < 1e-12 * omega
-    assert wb < 0.0  # App. B sign kept (paper-notes)
+    assert wb < 0.0  # App. B sign kept (docs/model.md, errata)
 
 
 @pytest.mark.parametrize("alpha_deg", [0.0, 15.0, 25.0, 40.0])

@@ -1,12 +1,11 @@
 """The ``bearing-gym`` command line, end to end on tiny inputs (in-process through
-``bearing_gym.cli.main`` and once in a subprocess)."""
+``bearing_gym.cli.main`` and once in a subprocess). Nothing here needs the optional ray extra."""
 
 import csv
 import functools
 import json
 import math
 import os
-import re
 import subprocess
 import sys
 
@@ -15,6 +14,7 @@ import pytest
 
 from bearing_gym import cli
 from bearing_gym.analysis import sweeps
+from bearing_gym.analysis.sweeps import runner
 
 _REAL_CHAIN = sweeps.continuation_chain
 TINY_SWEEP = ["--settle-s", "0.005", "--cold-settle-s", "0.005", "--measure-s", "0.02",
@@ -87,7 +87,7 @@ def _counting(monkeypatch, fail_label=None):
             raise RuntimeError("simulated crash")
         return real(base, preloads, settings, label, *a, **k)
 
-    monkeypatch.setattr(sweeps, "continuation_chain", chain)
+    monkeypatch.setattr(runner, "continuation_chain", chain)      # where stability_map looks it up
     return calls
 
 
@@ -179,14 +179,6 @@ def _error(capsys):
     (["sweep", "--preloads", "800", "--address", "auto"], ["--address", "--backend ray"]),
     (["sweep", "--preloads", "800", "--backend", "dask"], ["--backend", "'local', 'ray'"]),
     (["sweep", "--preloads", "800", "--backend", "ray", "--address", " "], ["--address", "empty"]),
-    (["watch"], ["--model/--policy"]),
-    (["watch", "--policy", "feedback", "--model", "runs/x"], ["--model/--policy", "exactly one"]),
-    (["watch", "--policy", "constant:5000"], ["--policy", "[300, 2000] N", "5000"]),
-    (["watch", "--policy", "constant:lots"], ["--policy", "not a number"]),
-    (["watch", "--policy", "dance"], ["--policy", "unknown policy 'dance'"]),
-    (["watch", "--model", "/no/such/dir"], ["--model", "no such directory"]),
-    (["watch", "--policy", "feedback", "--steps", "0"], ["--steps", "[1, 100000]"]),
-    (["watch", "--policy", "feedback", "--scenario", "moon"], ["--scenario", "randomized"]),
 ])
 def test_bad_options_exit_nonzero_with_one_line_naming_the_option(argv, names, tmp_path, capsys):
     assert cli.main(argv + (["--out", str(tmp_path / "x")] if argv[0] == "simulate" else [])) == 2
@@ -212,71 +204,27 @@ def test_bad_config_files(text, suffix, names, tmp_path, capsys):
         assert name in err
 
 
-def test_sweep_backend_ray_without_ray_says_how_to_install(monkeypatch, capsys):
+def _without_ray(monkeypatch):
     import importlib.util
 
     real = importlib.util.find_spec
     monkeypatch.setattr(importlib.util, "find_spec",
                         lambda name, *a, **k: None if name == "ray" else real(name, *a, **k))
+
+
+def test_address_is_checked_before_the_ray_install(monkeypatch, capsys):
+    """An empty --address is named as such whether or not ray is installed."""
+    _without_ray(monkeypatch)
+    assert cli.main(["sweep", "--preloads", "800", "--backend", "ray", "--address", " "]) == 2
+    err = _error(capsys)
+    assert err.startswith("bearing-gym: error: --address: must not be empty")
+
+
+def test_sweep_backend_ray_without_ray_says_how_to_install(monkeypatch, capsys):
+    _without_ray(monkeypatch)
     assert cli.main(["sweep", "--preloads", "800", "--backend", "ray"]) == 2
     err = _error(capsys)
     assert "--backend" in err and "pip install 'bearing-gym[ray]'" in err
-
-
-_STEP_LINE = re.compile(r"^\s*(\d+)\s+(\d+)" + r"\s+(-?[\d.]+)" * 5 + r"\s*$")
-
-
-def _steps(text):
-    """The per-step lines of bearing-gym watch: (episode, step, t, preload, set-point, qpi,
-    reward)."""
-    return [tuple(float(v) for v in m.groups()) for m in map(_STEP_LINE.match, text.splitlines())
-            if m]
-
-
-def test_watch_scripted_policy_headless_writes_frames_and_step_lines(tmp_path, capsys):
-    frames = tmp_path / "frames"
-    assert cli.main(["watch", "--policy", "constant:1200", "--scenario", "paper", "--steps", "3",
-                     "--frames", str(frames)]) == 0
-    text = capsys.readouterr().out
-    steps = _steps(text)
-    assert [s[:3] for s in steps] == [(0, 1, 0.02), (0, 2, 0.04), (0, 3, 0.06)]
-    assert all(s[4] == 1200.0 and 1000.0 <= s[3] <= 1200.0 and 0 <= s[5] < 2 and s[6] < 0
-               for s in steps)
-    assert "constant 1200 N" in text and "episode 0: return" in text
-    assert sorted(p.name for p in frames.iterdir()) == [f"frame_{k:05d}.png" for k in range(4)]
-    assert (frames / "frame_00003.png").read_bytes()[:4] == b"\x89PNG"
-    # two episodes, quiet: no output, the frames still come
-    assert cli.main(["watch", "--policy", "feedback", "--episodes", "2", "--steps", "1", "-q",
-                     "--frames", str(tmp_path / "q")]) == 0
-    assert capsys.readouterr().out == ""
-    assert len(list((tmp_path / "q").iterdir())) == 4
-
-
-def test_watch_a_model_directory_of_train_py(tmp_path, capsys, monkeypatch):
-    """An (untrained) PPO model saved the way train.py saves one: model.zip, config.json and
-    the VecNormalize statistics; without --frames the latest frame goes to the temp dir."""
-    import tempfile
-
-    monkeypatch.setattr(tempfile, "tempdir", str(tmp_path / "tmp"))
-    from stable_baselines3 import PPO
-    from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
-
-    from bearing_gym.envs import BearingPreloadEnv
-
-    venv = VecNormalize(DummyVecEnv([lambda: BearingPreloadEnv(scenario="paper")]))
-    venv.obs_rms.mean[:] = 0.5
-    PPO("MlpPolicy", venv, n_steps=8, batch_size=8, seed=0, device="cpu").save(tmp_path / "model.zip")
-    venv.save(tmp_path / "vec_normalize.pkl")
-    (tmp_path / "config.json").write_text(json.dumps({"algo": "ppo"}))
-    assert cli.main(["watch", "--model", str(tmp_path), "--steps", "2", "--seed", "7"]) == 0
-    text = capsys.readouterr().out
-    assert "PPO (trained)" in text and "(seed 7)" in text
-    latest = tmp_path / "tmp" / "bearing_gym" / "latest.png"
-    assert f"latest frame goes to {latest}" in text and latest.is_file()
-    assert [s[:2] for s in _steps(text)] == [(0, 1), (0, 2)]
-    (tmp_path / "config.json").unlink()
-    assert cli.main(["watch", "--model", str(tmp_path)]) == 2
-    assert "config.json" in _error(capsys)
 
 
 def test_help_lists_units(capsys):
@@ -286,8 +234,13 @@ def test_help_lists_units(capsys):
         assert unit in text
 
 
+def test_the_watch_command_moved_to_the_agents(capsys):
+    assert cli.main(["watch", "--policy", "feedback"]) == 2
+    assert "invalid choice: 'watch'" in _error(capsys)
+
+
 def test_reproduce_passes_its_options_through(tmp_path, capsys, monkeypatch):
-    import bearing_gym.reproduce as reproduce
+    from bearing_gym.reproduction import main as reproduction
 
     seen = []
 
@@ -296,7 +249,7 @@ def test_reproduce_passes_its_options_through(tmp_path, capsys, monkeypatch):
         print("reproduction output")
         return 0
 
-    monkeypatch.setattr(reproduce, "main", fake_main)
+    monkeypatch.setattr(reproduction, "main", fake_main)
     cfg = tmp_path / "r.toml"
     cfg.write_text('[reproduce]\nquick = true\nworkers = 1\nredo = ["waviness_", "detail_"]\n')
     assert cli.main(["reproduce", "--config", str(cfg), "--out", "X", "-q"]) == 0
@@ -304,7 +257,7 @@ def test_reproduce_passes_its_options_through(tmp_path, capsys, monkeypatch):
                         "--out", "X", "--no-progress"]
     assert capsys.readouterr().out == ""           # --quiet
     monkeypatch.undo()
-    assert cli.main(["reproduce", "--help"]) == 0  # the real parser of bearing_gym.reproduce
+    assert cli.main(["reproduce", "--help"]) == 0  # the real parser of the reproduction
     assert "--report-only" in capsys.readouterr().out
 
 
