@@ -21,7 +21,8 @@ from bearing_gym.cli.errors import CLIError, one_line
 from bearing_gym.cli.main import guarded
 from bearing_gym.cli.output import Out
 from bearing_gym.cli.parser import OneLineParser, integer
-from bearing_gym.units import rad_s_to_rpm
+from bearing_gym.analysis.signals import QPI_THRESHOLD
+from bearing_gym.envs.tiers import DEFAULT_TIER, EPISODE_STEPS, TIERS
 
 __all__ = ["build_parser", "make_policy", "watch", "main"]
 
@@ -50,19 +51,19 @@ def build_parser() -> argparse.ArgumentParser:
     g = p.add_argument_group("episodes")
     g.add_argument("--episodes", type=integer, default=1, metavar="N",
                    help="episodes to play (1-1000; default %(default)d)")
-    g.add_argument("--steps", type=integer, default=250, metavar="N",
-                   help="control intervals (20 ms) per episode (1-100000; default %(default)d "
-                        "= 5 s)")
+    g.add_argument("--steps", type=integer, default=EPISODE_STEPS, metavar="N",
+                   help="control intervals (20 ms) per episode (1-100000; default %(default)d, "
+                        "the benchmark's horizon)")
     g.add_argument("--seed", type=integer, default=0, metavar="S",
                    help="seed of the first episode; episode k uses S + k (>= 0; default "
                         "%(default)d)")
-    g.add_argument("--scenario", choices=("randomized", "paper"), default="randomized",
-                   help="operating conditions: randomized (speed, radial load, clearance, "
-                        "waviness drawn per episode) or paper (20000 rpm, c = 4 um; default "
-                        "%(default)s)")
+    g.add_argument("--tier", choices=tuple(TIERS), default=DEFAULT_TIER,
+                   help="difficulty tier (bearing_gym.envs.tiers): paper (20000 rpm, c = 4 um), "
+                        "stationary (a random operating point), transient (plus speed ramps and "
+                        "load steps) or field (plus sensor errors); default %(default)s")
     g.add_argument("--frames", metavar="DIR", default=None,
                    help="also save every frame as DIR/frame_NNNNN.png (default without a "
-                        "display: only the latest frame, in <temp dir>/bearing_gym/latest.png)")
+                        "display: only the latest frame, in <temp dir>/bearing_gym_frames/latest.png)")
     p.add_argument("-q", "--quiet", action="store_true",
                    help="print nothing but errors (no step lines)")
     return p
@@ -143,10 +144,10 @@ def watch(args, say: Out) -> int:
         raise CLIError(f"--frames: {args.frames} is a file; give a directory")
     policy = make_policy(args)
     oracle = type(policy).__name__ == "OraclePreload"
-    env = gym.make("BearingPreload-v0", scenario=args.scenario, render_mode="human",
+    env = gym.make("BearingPreload-v0", tier=args.tier, render_mode="human",
                    render_dir=args.frames, max_episode_steps=args.steps, episode_steps=args.steps)
     base = env.unwrapped
-    say(f"bearing-gym watch: {policy.name} on BearingPreload-v0 (scenario {args.scenario}, "
+    say(f"bearing-gym watch: {policy.name} on BearingPreload-v0 (tier {args.tier}, "
         f"{args.episodes} episode(s) of {args.steps} steps of {base.control_dt_s * 1e3:g} ms)")
     try:
         for ep in range(args.episodes):
@@ -158,10 +159,9 @@ def watch(args, say: Out) -> int:
                     + (f"frames go to {args.frames}" if args.frames else
                        f"the latest frame goes to {_latest_path()} (--frames DIR keeps all)"))
             sc = base.scenario
-            speed = (f"{sc.speed_start_rpm:.0f}" if sc.speed_start_rpm == sc.speed_end_rpm
-                     else f"{sc.speed_start_rpm:.0f} -> {sc.speed_end_rpm:.0f}")
-            load = (f"{sc.radial_load_before_n:.0f}" if sc.radial_load_before_n == sc.radial_load_after_n
-                    else f"{sc.radial_load_before_n:.0f} -> {sc.radial_load_after_n:.0f}")
+            sp = sc.speed_profile
+            speed = " -> ".join(f"{v:.0f}" for k, (_, v) in enumerate(sp) if k == 0 or v != sp[k - 1][1])
+            load = " -> ".join(f"{f:.0f}" for _, f in sc.radial_load_profile)
             say(f"episode {ep} (seed {args.seed + ep}): {speed} rpm, radial load {load} N, "
                 f"clearance {sc.clearance_m * 1e6:.1f} um, initial preload "
                 f"{info['preload_n']:.0f} N")
@@ -171,8 +171,7 @@ def watch(args, say: Out) -> int:
             reason = ""
             while True:
                 if oracle:
-                    b = base._batch
-                    policy.set_conditions(rad_s_to_rpm(b.omega()[:1]), b.radial_load_n()[:1],
+                    policy.set_conditions(np.array([info["shaft_speed_rpm"]]), np.array([info["radial_load_n"]]),
                                           np.array([sc.clearance_m]))
                 act, state = policy.predict(obs[None], state=state,
                                             episode_start=np.array([start]), deterministic=True)
@@ -181,7 +180,7 @@ def watch(args, say: Out) -> int:
                 obs, reward, term, trunc, info = env.step(action)
                 n += 1
                 ret += reward
-                qp += info["qpi"] > 0.3
+                qp += info["quasi_periodic"]
                 preload_sum += info["preload_n"]
                 say(f"{ep:>3d} {n:>5d} {info['t']:>7.3f} {info['preload_n']:>12.1f} "
                     f"{info['setpoint_n']:>14.1f} {info['qpi']:>7.3f} {reward:>9.3f}")
@@ -189,7 +188,7 @@ def watch(args, say: Out) -> int:
                     reason = f"; terminated: {info['termination_reason']}" if term else ""
                     break
             say(f"episode {ep}: return {ret:.3f} over {n} steps, mean preload "
-                f"{preload_sum / n:.0f} N, quasi-periodic (index > 0.3) {100 * qp / n:.0f} % of "
+                f"{preload_sum / n:.0f} N, quasi-periodic (index > {QPI_THRESHOLD}) {100 * qp / n:.0f} % of "
                 f"the time{reason}")
     finally:
         env.close()

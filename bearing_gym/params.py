@@ -41,11 +41,8 @@ RACE_CONTROLS = ("outer", "inner", "auto")
 
 
 # ---------------------------------------------------------------------------------------------
-# validation helpers (bearing_gym.validation; the private names stay importable from here
-# until every caller uses the public ones)
+# validation helpers (bearing_gym.validation)
 # ---------------------------------------------------------------------------------------------
-_check_real = check_real
-_check_int = check_int
 _as_float_tuple = check_real_tuple
 
 

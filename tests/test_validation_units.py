@@ -34,11 +34,6 @@ def test_check_int_bool_and_tuple():
         check_real_tuple("a", [0.5, 2.0], 0.0, 1.0)
 
 
-def test_private_alias_of_params_is_the_public_check():
-    from bearing_gym.params import _check_real
-    assert _check_real is check_real
-
-
 def test_rpm_conversions_invert_each_other():
     assert rpm_to_rad_s(60.0) == pytest.approx(2 * math.pi, rel=1e-15)
     assert rpm_to_rad_s(20000.0) == 20000.0 * 2.0 * math.pi / 60.0     # the same rounding

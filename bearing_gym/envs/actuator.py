@@ -22,7 +22,7 @@ from typing import Protocol, runtime_checkable
 import numpy as np
 from numba import njit
 
-from bearing_gym.params import _check_real
+from bearing_gym.validation import check_real
 
 from .parts import part_entry_point
 
@@ -54,11 +54,11 @@ class PreloadActuator:
     entry_point: str = field(default="", init=False)
 
     def __post_init__(self) -> None:
-        lo = _check_real("min_preload_n", self.min_preload_n, 0.0, 1e5)
-        _check_real("max_preload_n", self.max_preload_n, lo, 1e5, low_open=True)
-        _check_real("time_constant_s", self.time_constant_s, 0.0, 10.0)
-        _check_real("slew_rate_n_per_s", self.slew_rate_n_per_s, 0.0, 1e9, low_open=True)
-        _check_real("update_interval_s", self.update_interval_s, 0.0, 1.0, low_open=True)
+        lo = check_real("min_preload_n", self.min_preload_n, 0.0, 1e5)
+        check_real("max_preload_n", self.max_preload_n, lo, 1e5, low_open=True)
+        check_real("time_constant_s", self.time_constant_s, 0.0, 10.0)
+        check_real("slew_rate_n_per_s", self.slew_rate_n_per_s, 0.0, 1e9, low_open=True)
+        check_real("update_interval_s", self.update_interval_s, 0.0, 1.0, low_open=True)
         part_entry_point(self)
 
     def setpoint_n(self, action: np.ndarray) -> np.ndarray:

@@ -8,20 +8,14 @@ from typing import Any
 
 import numpy as np
 
-from bearing_gym.physics.rotor import ST_OK
+from bearing_gym.physics.status import ST_OK, status_text
+from bearing_gym.units import rad_s_to_rpm
 
 from .core import PreloadBatch
 from .measurement import StepMeasurement
 from .parts import resolve_part
 from .scenario import FixedScenario, Scenario, check_pinned
 from .tiers import CONTROL_DT_S, DEFAULT_TIER, EPISODE_STEPS, TIERS, tier_parts
-
-_TERMINATION_TEXT = {
-    1: "ball equilibrium did not converge",
-    2: "ball equilibrium Jacobian singular",
-    3: "Newmark iterations did not converge",
-    4: "integrator diverged (displacement beyond limit or not finite)",
-}
 
 _REQUIRED = {
     "scenario": ("sample",),
@@ -45,11 +39,12 @@ def configure(env, tier: str, scenario, actuator, observation, reward, params,
               control_dt_s: float, episode_steps: int, num_envs: int) -> None:
     """Set the parts every preload env has (single or vector) on ``env``: the tier's parts,
     replaced by any given explicitly, the physics batch and the single-env spaces."""
-    from bearing_gym.params import BearingParams, _check_real
+    from bearing_gym.params import BearingParams
+    from bearing_gym.validation import check_real
     if not isinstance(tier, str):
         raise ValueError(f"tier must be one of {', '.join(TIERS)}, got {tier!r}")
     parts = tier_parts(tier)
-    _check_real("control_dt_s", control_dt_s, 1e-3, 1.0)
+    check_real("control_dt_s", control_dt_s, 1e-3, 1.0)
     if isinstance(episode_steps, bool) or not isinstance(episode_steps, (int, np.integer)) or episode_steps < 1:
         raise ValueError(f"episode_steps must be an integer >= 1, got {episode_steps!r}")
     if params is not None and not isinstance(params, BearingParams):
@@ -131,7 +126,7 @@ def observe(env, m: StepMeasurement, idx: np.ndarray, rngs) -> np.ndarray:
 def reset_info(batch: PreloadBatch, b: int, m: StepMeasurement, i: int) -> dict[str, Any]:
     """The info of a reset: the operating point, the preload and the settled motion."""
     return {"preload_n": float(batch.preload[b]), "setpoint_n": float(batch.setpoint[b]),
-            "shaft_speed_rpm": float(m.shaft_speed_rad_s[i] * 30.0 / np.pi),
+            "shaft_speed_rpm": float(rad_s_to_rpm(m.shaft_speed_rad_s[i])),
             "radial_load_n": float(m.radial_load_n[i]), "qpi": float(m.qpi[i]),
             "quasi_periodic": bool(m.quasi_periodic[i]), "nonsync_rms_um": float(m.nonsync_rms_m[i] * 1e6),
             "t": 0.0}
@@ -153,6 +148,6 @@ def step_outputs(env, idx: np.ndarray, preload_before: np.ndarray, steps_left: n
         if terminated[i]:
             code = int(status[i])
             info["termination_reason"] = ("the start diverged at this operating point" if batch.start_failed[b]
-                                          else _TERMINATION_TEXT.get(code, f"status {code}"))
+                                          else status_text(code))
         infos.append(info)
     return obs, np.asarray(reward, dtype=np.float64), terminated, infos

@@ -157,21 +157,25 @@ class PreloadBatch:
         seeds settle once.
         """
         idx = np.asarray(idx, dtype=np.int64)
-        todo = []
+        todo: dict[tuple, list[int]] = {}          # key -> envs (the first one is simulated)
         for b in idx:
-            cached = _SETTLED.get(self._settle_key(int(b)))
-            if cached is None:
-                todo.append(int(b))
-                continue
-            _SETTLED.move_to_end(self._settle_key(int(b)))
-            for name, value in zip(self._STATE, cached):
-                getattr(self, name)[b] = value
+            key = self._settle_key(int(b))
+            if key in _SETTLED:
+                _SETTLED.move_to_end(key)
+            else:
+                todo.setdefault(key, []).append(int(b))
+        fresh: dict[tuple, tuple] = {}
         if todo:
-            self._run_settle(np.array(todo, dtype=np.int64))
-            for b in todo:
-                _SETTLED[self._settle_key(b)] = tuple(getattr(self, name)[b].copy() for name in self._STATE)
+            self._run_settle(np.array([envs[0] for envs in todo.values()], dtype=np.int64))
+            for key, envs in todo.items():
+                fresh[key] = tuple(getattr(self, name)[envs[0]].copy() for name in self._STATE)
+                _SETTLED[key] = fresh[key]
                 while len(_SETTLED) > SETTLE_CACHE_SIZE:
                     _SETTLED.popitem(last=False)
+        for b in idx:
+            key = self._settle_key(int(b))
+            for name, value in zip(self._STATE, fresh[key] if key in fresh else _SETTLED[key]):
+                getattr(self, name)[b] = value
         for b in idx:
             self.start_failed[b] = self.status[b] != 0
             self.env_state[b, 2] = 0.0

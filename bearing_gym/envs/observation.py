@@ -73,7 +73,8 @@ from typing import Any, Protocol, runtime_checkable
 import numpy as np
 from gymnasium import spaces
 
-from bearing_gym.params import _check_real
+from bearing_gym.units import rad_s_to_rpm
+from bearing_gym.validation import check_real
 
 from .measurement import StepMeasurement
 from .parts import part_entry_point
@@ -119,9 +120,9 @@ class ObservationModel:
     def __post_init__(self) -> None:
         for name in ("displacement_scale_m", "rms_scale_m", "nonsync_scale_m", "speed_scale_rpm",
                      "offset_scale_m"):
-            _check_real(name, getattr(self, name), 0.0, 1e6, low_open=True)
+            check_real(name, getattr(self, name), 0.0, 1e6, low_open=True)
         for name in ("displacement_noise_m", "runout_max_m", "offset_bias_m", "offset_drift_m_per_sqrt_s"):
-            _check_real(name, getattr(self, name), 0.0, 1e-3)
+            check_real(name, getattr(self, name), 0.0, 1e-3)
         if not isinstance(self.cage_speed_sensor, bool):
             raise ValueError(f"cage_speed_sensor must be True or False, got {self.cage_speed_sensor!r}")
         part_entry_point(self)
@@ -173,7 +174,7 @@ class ObservationModel:
         obs[:, 8] = qpi
         obs[:, 9] = 2.0 * (m.preload_n - p_min) / span - 1.0
         obs[:, 10] = 2.0 * (m.setpoint_n - p_min) / span - 1.0
-        obs[:, 11] = m.shaft_speed_rad_s * 30.0 / math.pi / self.speed_scale_rpm
+        obs[:, 11] = rad_s_to_rpm(m.shaft_speed_rad_s) / self.speed_scale_rpm
         obs[:, 12] = np.hypot(offsets[:, 0], offsets[:, 1]) / self.offset_scale_m
         obs[:, 13] = offsets[:, 2] / self.offset_scale_m
         obs[:, 14] = ns / self.nonsync_scale_m

@@ -64,7 +64,8 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
-from bearing_gym.params import _check_real
+from bearing_gym.units import rpm_to_rad_s
+from bearing_gym.validation import check_real
 
 from .measurement import StepMeasurement
 from .parts import part_entry_point
@@ -101,14 +102,14 @@ class VibrationFirstReward:
     entry_point: str = field(default="", init=False)
 
     def __post_init__(self) -> None:
-        _check_real("amplitude_scale_um", self.amplitude_scale_um, 0.0, 1e6, low_open=True)
-        _check_real("amplitude_cap_um", self.amplitude_cap_um, 0.0, 1e6, low_open=True)
+        check_real("amplitude_scale_um", self.amplitude_scale_um, 0.0, 1e6, low_open=True)
+        check_real("amplitude_cap_um", self.amplitude_cap_um, 0.0, 1e6, low_open=True)
         for name in ("heat_share", "fatigue_share", "actuation_weight"):
-            _check_real(name, getattr(self, name), 0.0, 1e6)
-        lo = _check_real("min_preload_n", self.min_preload_n, 0.0, 1e5)
-        _check_real("max_preload_n", self.max_preload_n, lo, 1e5, low_open=True)
-        _check_real("max_speed_rpm", self.max_speed_rpm, 0.0, 1e6, low_open=True)
-        _check_real("max_radial_load_n", self.max_radial_load_n, 0.0, 1e6)
+            check_real(name, getattr(self, name), 0.0, 1e6)
+        lo = check_real("min_preload_n", self.min_preload_n, 0.0, 1e5)
+        check_real("max_preload_n", self.max_preload_n, lo, 1e5, low_open=True)
+        check_real("max_speed_rpm", self.max_speed_rpm, 0.0, 1e6, low_open=True)
+        check_real("max_radial_load_n", self.max_radial_load_n, 0.0, 1e6)
         part_entry_point(self)
 
     # -- the terms -------------------------------------------------------------------------
@@ -119,7 +120,7 @@ class VibrationFirstReward:
 
     def secondary_costs(self, preload_n, shaft_speed_rad_s, radial_load_n) -> tuple[np.ndarray, np.ndarray]:
         """(heat, fatigue) costs (>= 0) at an operating point."""
-        speed = np.asarray(shaft_speed_rad_s) / (self.max_speed_rpm * math.pi / 30.0)
+        speed = np.asarray(shaft_speed_rad_s) / rpm_to_rad_s(self.max_speed_rpm)
         p_eq_max = self.equivalent_load_n(self.max_radial_load_n, self.max_preload_n)
         heat = self.heat_share * np.asarray(preload_n) / self.max_preload_n * speed
         fatigue = self.fatigue_share * (self.equivalent_load_n(radial_load_n, preload_n) / p_eq_max) ** 3 * speed
@@ -133,7 +134,7 @@ class VibrationFirstReward:
         """An upper bound of one interval's cost at (and anywhere inside the envelope beyond)
         the given operating point: the termination penalty per interval left."""
         vib = 1.0 + self.amplitude_cap_um / self.amplitude_scale_um
-        speed = np.maximum(np.asarray(shaft_speed_rad_s, dtype=float), self.max_speed_rpm * math.pi / 30.0)
+        speed = np.maximum(np.asarray(shaft_speed_rad_s, dtype=float), rpm_to_rad_s(self.max_speed_rpm))
         fr = np.maximum(np.asarray(radial_load_n, dtype=float), self.max_radial_load_n)
         heat, fatigue = self.secondary_costs(self.max_preload_n, speed, fr)
         return vib + heat + fatigue + self.actuation_weight

@@ -19,6 +19,8 @@ from typing import Any, Mapping, Protocol, runtime_checkable
 
 import numpy as np
 
+from bearing_gym.units import rpm_to_rad_s
+
 from .parts import part_entry_point
 
 __all__ = ["Scenario", "ScenarioDistribution", "FixedScenario", "ScenarioSampler", "PAPER",
@@ -72,20 +74,20 @@ class Scenario:
     entry_point: str = field(default="", init=False)
 
     def __post_init__(self) -> None:
-        from bearing_gym.params import _check_int, _check_real
+        from bearing_gym.validation import check_int, check_real
         speed = _pairs("speed_profile", self.speed_profile, 2)
         for t, v in speed:
-            _check_real("scenario speed_profile rpm", v, 1000.0, 60000.0)
+            check_real("scenario speed_profile rpm", v, 1000.0, 60000.0)
         load = _pairs("radial_load_profile", self.radial_load_profile, 2)
         for t, f in load:
-            _check_real("scenario radial_load_profile load (N)", f, 0.0, 5000.0)
+            check_real("scenario radial_load_profile load (N)", f, 0.0, 5000.0)
         object.__setattr__(self, "speed_profile", speed)
         object.__setattr__(self, "radial_load_profile", load)
         for name, lo, hi in (("radial_load_angle_rad", -10.0, 10.0), ("clearance_m", 0.0, 1e-4),
                              ("waviness_amplitude_m", 0.0, 1e-5), ("eccentricity_m", 0.0, 1e-3),
                              ("initial_preload_n", 0.0, 1e5)):
-            object.__setattr__(self, name, _check_real(f"scenario {name}", getattr(self, name), lo, hi))
-        object.__setattr__(self, "waviness_order", _check_int("scenario waviness_order", self.waviness_order, 1, 1000))
+            object.__setattr__(self, name, check_real(f"scenario {name}", getattr(self, name), lo, hi))
+        object.__setattr__(self, "waviness_order", check_int("scenario waviness_order", self.waviness_order, 1, 1000))
         part_entry_point(self)
 
     @property
@@ -108,7 +110,7 @@ class Scenario:
         row = np.zeros(SCHEDULE_SIZE)
         row[0] = len(self.speed_profile)
         for k, (t, rpm) in enumerate(self.speed_profile):
-            row[1 + 2 * k], row[2 + 2 * k] = t, rpm * math.pi / 30.0
+            row[1 + 2 * k], row[2 + 2 * k] = t, rpm_to_rad_s(rpm)
         base = 1 + 2 * MAX_EVENTS
         row[base] = len(self.radial_load_profile)
         c, s = math.cos(self.radial_load_angle_rad), math.sin(self.radial_load_angle_rad)
@@ -156,12 +158,12 @@ class ScenarioDistribution:
     entry_point: str = field(default="", init=False)
 
     def __post_init__(self) -> None:
-        from bearing_gym.params import _check_int, _check_real
-        _check_int("events", self.events, 0, (MAX_EVENTS - 1) // 2)
-        lo = _check_real("event_window[0]", self.event_window[0], 0.0, 1.0)
-        _check_real("event_window[1]", self.event_window[1], lo, 1.0)
+        from bearing_gym.validation import check_int, check_real
+        check_int("events", self.events, 0, (MAX_EVENTS - 1) // 2)
+        lo = check_real("event_window[0]", self.event_window[0], 0.0, 1.0)
+        check_real("event_window[1]", self.event_window[1], lo, 1.0)
         longest_ramp = self.ramp_duration_s if isinstance(self.ramp_duration_s, (int, float)) else max(self.ramp_duration_s)
-        _check_real("min_event_spacing_s", self.min_event_spacing_s, float(longest_ramp), 1e4, low_open=True)
+        check_real("min_event_spacing_s", self.min_event_spacing_s, float(longest_ramp), 1e4, low_open=True)
         part_entry_point(self)
 
     def _new_level(self, rng: np.random.Generator, r: _Range, current: float, min_change: float) -> float:
@@ -201,7 +203,8 @@ class ScenarioDistribution:
             for t in self._event_times(rng, episode_s):
                 if rng.uniform() < 0.5:
                     v_new = self._new_level(rng, self.speed_rpm, speed[-1][1], self.min_speed_change_rpm)
-                    speed += [(t, speed[-1][1]), (t + _draw(rng, self.ramp_duration_s), v_new)]
+                    start = max(t, speed[-1][0] + 1e-3)     # after the previous ramp (short episodes)
+                    speed += [(start, speed[-1][1]), (start + _draw(rng, self.ramp_duration_s), v_new)]
                 else:
                     load.append((t, self._new_level(rng, self.radial_load_n, load[-1][1], self.min_load_change_n)))
         fields["speed_profile"] = tuple(speed)

@@ -31,6 +31,8 @@ from __future__ import annotations
 
 from typing import Any
 
+from bearing_gym.timing import CONTROL_DT_S, EPISODE_STEPS
+
 from .actuator import PreloadActuator
 from .observation import ObservationModel
 from .reward import VibrationFirstReward
@@ -38,12 +40,6 @@ from .scenario import PAPER, FixedScenario, ScenarioDistribution
 
 __all__ = ["TIERS", "DEFAULT_TIER", "EPISODE_STEPS", "CONTROL_DT_S", "tier_parts"]
 
-#: The horizon of every tier (control intervals): 3 s, enough for three events at least 0.5 s
-#: apart and for the slow growth or decay (a few per second) of motion near a band edge.
-EPISODE_STEPS = 150
-#: The control interval (s): 6.7 shaft turns at 20,000 rpm, 3.3 at 10,000 rpm, enough Poincare
-#: points for the quasi-periodicity index of one interval.
-CONTROL_DT_S = 0.02
 DEFAULT_TIER = "transient"
 
 _STATIONARY = ScenarioDistribution()

@@ -18,7 +18,7 @@ PAPER = dict(
 )
 
 
-QPI_THRESHOLD = 0.1
+from bearing_gym.analysis.signals import QPI_THRESHOLD  # noqa: E402  (re-exported for the reproduction)
 
 
 @dataclass(frozen=True)

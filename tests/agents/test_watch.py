@@ -26,7 +26,7 @@ def _error(capsys):
     (["--policy", "dance"], ["--policy", "unknown policy 'dance'"]),
     (["--model", "/no/such/dir"], ["--model", "no such directory"]),
     (["--policy", "feedback", "--steps", "0"], ["--steps", "[1, 100000]"]),
-    (["--policy", "feedback", "--scenario", "moon"], ["--scenario", "randomized"]),
+    (["--policy", "feedback", "--tier", "moon"], ["--tier", "transient"]),
 ])
 def test_bad_options_exit_2_with_one_line_naming_the_option(argv, names, capsys):
     assert watch.main(argv) == 2
@@ -47,7 +47,7 @@ def _steps(text):
 
 def test_watch_scripted_policy_headless_writes_frames_and_step_lines(tmp_path, capsys):
     frames = tmp_path / "frames"
-    assert watch.main(["--policy", "constant:1200", "--scenario", "paper", "--steps", "3",
+    assert watch.main(["--policy", "constant:1200", "--tier", "paper", "--steps", "3",
                        "--frames", str(frames)]) == 0
     text = capsys.readouterr().out
     steps = _steps(text)
@@ -83,7 +83,7 @@ def test_watch_a_model_directory_of_train_py(tmp_path, capsys, monkeypatch):
     assert watch.main(["--model", str(tmp_path), "--steps", "2", "--seed", "7"]) == 0
     text = capsys.readouterr().out
     assert "PPO (trained)" in text and "(seed 7)" in text
-    latest = tmp_path / "tmp" / "bearing_gym" / "latest.png"
+    latest = tmp_path / "tmp" / "bearing_gym_frames" / "latest.png"
     assert f"latest frame goes to {latest}" in text and latest.is_file()
     assert [s[:2] for s in _steps(text)] == [(0, 1), (0, 2)]
     (tmp_path / "config.json").unlink()
@@ -93,7 +93,7 @@ def test_watch_a_model_directory_of_train_py(tmp_path, capsys, monkeypatch):
 
 def test_python_m_agents_watch_in_a_subprocess(tmp_path):
     run = subprocess.run([sys.executable, "-m", "agents.watch", "--policy", "constant:900",
-                          "--scenario", "paper", "--steps", "1", "-q", "--frames",
+                          "--tier", "paper", "--steps", "1", "-q", "--frames",
                           str(tmp_path / "f")], capture_output=True, text=True, timeout=300)
     assert run.returncode == 0, run.stderr
     assert run.stdout == ""

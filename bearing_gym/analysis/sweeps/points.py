@@ -47,7 +47,7 @@ import numpy as np
 from bearing_gym.params import BearingParams
 from bearing_gym.units import rpm_to_rad_s
 
-from ..signals import quasi_periodicity_index
+from ..signals import QPI_THRESHOLD, quasi_periodicity_index
 
 __all__ = ["COLUMNS", "SweepSettings", "AXIAL_SHARE", "axial_index", "axial_pair",
            "operating_point", "measure_point", "cold_start_point", "continuation_chain"]
@@ -77,7 +77,7 @@ class SweepSettings:
     settle_s: float = 0.3
     measure_s: float = 0.1
     cold_settle_s: float = 0.5
-    qpi_threshold: float = 0.1
+    qpi_threshold: float = QPI_THRESHOLD
     floquet: bool = True
     refine_step_n: float | None = None
 

@@ -1,0 +1,11 @@
+"""The benchmark's clock: one control interval and one horizon for every tier, the
+registration's time limit, training and evaluation alike (imports nothing, so that
+``import bearing_gym`` can register the env without loading it)."""
+
+#: The control interval (s): 6.7 shaft turns at 20,000 rpm, 3.3 at 10,000 rpm, enough Poincare
+#: points for the quasi-periodicity index of one interval.
+CONTROL_DT_S = 0.02
+
+#: The horizon of every tier (control intervals): 3 s, enough for three events at least 0.5 s
+#: apart and for the slow growth or decay (a few per second) of motion near a band edge.
+EPISODE_STEPS = 150
