@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-__all__ = ["RecedingHorizonMPC", "EpisodeOutcome", "run_constant", "DEFAULT_CANDIDATES_N"]
+__all__ = ["RecedingHorizonMPC", "EpisodeOutcome", "run_episode", "run_constant", "DEFAULT_CANDIDATES_N"]
 
 DEFAULT_CANDIDATES_N = tuple(float(p) for p in np.linspace(300.0, 2000.0, 9))
 
@@ -59,22 +59,31 @@ class RecedingHorizonMPC:
         return best_action
 
     def run_episode(self, env, seed: int | None = None, options: dict | None = None) -> EpisodeOutcome:
-        env.reset(seed=seed, options=options)
-        steps = env.episode_steps
-        out = EpisodeOutcome(0.0, {}, 0.0, False)
-        action = None
-        qp = 0
-        for k in range(steps):
+        """One episode of the env (single, unwrapped) under receding-horizon control."""
+        chosen: list[np.ndarray] = []
+
+        def action(k: int) -> np.ndarray:
             if k % self.replan_every == 0:
-                action = self.plan(env)
-            _, r, term, _, info = env.step(action)
-            _accumulate(out, r, info)
-            qp += info["quasi_periodic"]
-            if term:
-                out.terminated = True
-                break
-        out.quasi_periodic_fraction = qp / steps
-        return out
+                chosen[:] = [self.plan(env)]
+            return chosen[0]
+
+        return run_episode(env, action, seed, options)
+
+
+def run_episode(env, action_at, seed: int | None = None, options: dict | None = None) -> EpisodeOutcome:
+    """One episode with the action ``action_at(k)`` at interval k (the env: single, unwrapped)."""
+    env.reset(seed=seed, options=options)
+    out = EpisodeOutcome(0.0, {}, 0.0, False)
+    qp = 0
+    for k in range(env.episode_steps):
+        _, r, term, _, info = env.step(action_at(k))
+        _accumulate(out, r, info)
+        qp += info["quasi_periodic"]
+        if term:
+            out.terminated = True
+            break
+    out.quasi_periodic_fraction = qp / env.episode_steps
+    return out
 
 
 def _accumulate(out: EpisodeOutcome, r: float, info: dict) -> None:
@@ -87,16 +96,5 @@ def _accumulate(out: EpisodeOutcome, r: float, info: dict) -> None:
 
 def run_constant(env, preload_n: float, seed: int | None = None, options: dict | None = None) -> EpisodeOutcome:
     """One episode at a constant set-point."""
-    env.reset(seed=seed, options=options)
     action = np.array([env.actuator.action_for(preload_n)], dtype=np.float32)
-    out = EpisodeOutcome(0.0, {}, 0.0, False)
-    qp = 0
-    for _ in range(env.episode_steps):
-        _, r, term, _, info = env.step(action)
-        _accumulate(out, r, info)
-        qp += info["quasi_periodic"]
-        if term:
-            out.terminated = True
-            break
-    out.quasi_periodic_fraction = qp / env.episode_steps
-    return out
+    return run_episode(env, lambda k: action, seed, options)
