@@ -69,7 +69,7 @@ def _operating_point(p: argparse.ArgumentParser, d: dict, *, preload: bool = Tru
                         "default %(default)g)")
     g.add_argument("--radial-load", type=number, default=d["radial_load"], metavar="N",
                    help="radial load on EACH of the x and y axes, P_x = P_y = N as in the paper "
-                        "(N, -1e6 to 1e6; default %(default)g): the resultant is 1.414 N at 45 "
+                        "(N, -1e6 to 1e6; default %(default)g): the resultant is 1.414 x N at 45 "
                         "deg, e.g. 283 N for 200; for a resultant F give F/1.414")
     g.add_argument("--eccentricity-um", type=number, default=d["eccentricity_um"], metavar="UM",
                    help="rotor mass eccentricity e (um, 0-10000; default %(default)g)")

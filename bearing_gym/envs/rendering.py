@@ -75,8 +75,9 @@ def draw_frame(fig, orbit: np.ndarray | None, poincare, history) -> None:
     ax2.set(title="Poincare (once per turn)", xlabel="x (um)", ylabel="z (um)")
     if len(history):
         h = np.array(history)
-        ax3.plot(h[:, 0], h[:, 1], label="preload")
-        ax3.plot(h[:, 0], h[:, 2], "--", label="set-point")
+        mark = "o" if len(h) == 1 else None        # one point: a line would draw nothing
+        ax3.plot(h[:, 0], h[:, 1], marker=mark, label="preload")
+        ax3.plot(h[:, 0], h[:, 2], "--", marker=mark, mfc="none", label="set-point")
         ax3.legend(fontsize=7)
         lo, hi = float(h[:, 1:3].min()), float(h[:, 1:3].max())
         pad = max(50.0, 0.1 * (hi - lo))      # newtons: no 1e-6 N offset axis for a flat trace

@@ -236,6 +236,8 @@ def test_the_reset_frame_says_what_it_is_instead_of_empty_axes():
                              np.zeros(50)]) * 1e-5
     draw_frame(fig, orbit, deque([(1e-5, 2e-6)]), deque([(0.02, 1000.0, 1000.0, 0.01)]))
     assert all(ax.get_lines() and not ax.texts for ax in fig.axes)
+    # the first step's single preload sample is visible (a marker: a line needs two points)
+    assert all(ln.get_marker() not in (None, "None", "") for ln in fig.axes[2].get_lines())
 
 
 def test_radial_load_says_both_axes_and_the_resultant(tmp_path, capsys):
