@@ -67,4 +67,6 @@ def cmd_equilibrium(args, say: Out) -> int:
                                units="rows F_x, F_y, F_z (N), M_x, M_y (N m); columns x, y, z (m), "
                                      "theta_x, theta_y (rad)"))
     write_json(data, args.json)
+    if args.json not in (None, "-"):
+        say(f"wrote the results as JSON to {args.json}")
     return 0

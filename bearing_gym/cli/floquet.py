@@ -78,4 +78,6 @@ def cmd_floquet(args, say: Out) -> int:
                              for m in modes],
                 monodromy=res.monodromy)
     write_json(data, args.json)
+    if args.json not in (None, "-"):
+        say(f"wrote the results as JSON to {args.json}")
     return 0

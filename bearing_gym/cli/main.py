@@ -3,8 +3,10 @@
 Subcommands (``bearing-gym COMMAND --help`` lists every option with its unit and default):
 
 * ``simulate``     run the Simulator at an operating point, print a summary (peak-to-peak,
-                   principal frequencies, periodic or quasi-periodic) and save time-series,
-                   orbit, spectrum and Poincare plots plus the raw record (NPZ) in ``--out``;
+                   principal frequencies, periodic or quasi-periodic -- or undetermined, with a
+                   warning and a longer ``--duration`` to try, when the analysed second half is
+                   too short or still ringing) and save time-series, orbit, spectrum and
+                   Poincare plots plus the raw record (NPZ) in ``--out``;
 * ``equilibrium``  static equilibrium: contact angles, loads per ball, 5x5 stiffness matrix;
 * ``floquet``      Floquet multipliers of the settled response (finite differences);
 * ``sweep``        stability map over preloads x speeds x radial loads x clearances, written

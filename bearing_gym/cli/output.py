@@ -10,7 +10,7 @@ from typing import Any
 
 from bearing_gym.serialization import to_jsonable
 
-__all__ = ["Out", "write_json", "op_text", "params_dict", "advance", "RecordWindow"]
+__all__ = ["Out", "write_json", "op_text", "radial_text", "params_dict", "advance", "RecordWindow"]
 
 
 class Out:
@@ -42,9 +42,21 @@ def op_text(params) -> str:
     c = (f"c = {g.clearance_inner_m * 1e6:g} um" if g.clearance_inner_m == g.clearance_outer_m
          else f"c_i = {g.clearance_inner_m * 1e6:g} um, c_o = {g.clearance_outer_m * 1e6:g} um")
     return (f"{params.shaft_speed_rpm:g} rpm, P_z = {ld.axial_preload_n:g} N, "
-            f"P_x = {ld.radial_load_x_n:g} N, P_y = {ld.radial_load_y_n:g} N, {c}, "
+            f"{radial_text(ld.radial_load_x_n, ld.radial_load_y_n)}, {c}, "
             f"e = {params.rotor.eccentricity_m * 1e6:g} um, zeta = {params.damping.damping_ratio:g}, "
             f"{params.race_control}-race control")
+
+
+def radial_text(fx: float, fy: float) -> str:
+    """The radial load per axis and, when there is one, its resultant: ``--radial-load 200``
+    loads both axes, ``P_x = 200 N, P_y = 200 N (resultant 283 N at 45 deg)``."""
+    import math
+
+    text = f"P_x = {fx:g} N, P_y = {fy:g} N"
+    if fx or fy:
+        text += (f" (resultant {math.hypot(fx, fy):.4g} N at "
+                 f"{math.degrees(math.atan2(fy, fx)):.4g} deg)")
+    return text
 
 
 def params_dict(params) -> dict:
@@ -84,8 +96,8 @@ def advance(sim, duration_s: float, record_every: int, quiet: bool, desc: str):
                 raise SimulationError(str(err), partial) from None
             parts.append(rec.data)
             done += k
-            if bar is not None:
-                bar.update(k * dt)
+            if bar is not None:     # clamped: float steps must not overshoot the total
+                bar.update(min(k * dt, bar.total - bar.n))
     finally:
         if bar is not None:
             bar.close()

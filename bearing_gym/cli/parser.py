@@ -7,6 +7,7 @@ import argparse
 import os
 
 from bearing_gym import __version__
+from bearing_gym.analysis.signals import QPI_THRESHOLD
 from bearing_gym.analysis.sweeps import SweepSettings
 
 from .errors import CLIError
@@ -67,7 +68,9 @@ def _operating_point(p: argparse.ArgumentParser, d: dict, *, preload: bool = Tru
                    help=f"radial clearance c_i = c_o (um, 0 to below {d['clearance_max_um']:g}; "
                         "default %(default)g)")
     g.add_argument("--radial-load", type=number, default=d["radial_load"], metavar="N",
-                   help="radial load P_x = P_y (N, -1e6 to 1e6; default %(default)g)")
+                   help="radial load on EACH of the x and y axes, P_x = P_y = N as in the paper "
+                        "(N, -1e6 to 1e6; default %(default)g): the resultant is 1.414 x N at 45 "
+                        "deg, e.g. 283 N for 200; for a resultant F give F/1.414")
     g.add_argument("--eccentricity-um", type=number, default=d["eccentricity_um"], metavar="UM",
                    help="rotor mass eccentricity e (um, 0-10000; default %(default)g)")
     g.add_argument("--damping-ratio", type=number, default=d["damping_ratio"], metavar="ZETA",
@@ -98,17 +101,23 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.Argument
     p = sub.add_parser("simulate", help="time simulation with summary, plots and NPZ record",
                        description="Simulate the rotor from its static equilibrium; summarise the "
                                    "second half of the run (peak-to-peak, principal frequencies, "
-                                   "periodic or quasi-periodic) and save plots and the record.")
+                                   "periodic or quasi-periodic, or undetermined with a warning "
+                                   "when that half is too short or still ringing) and save plots "
+                                   "and the record.")
     _operating_point(p, d)
     g = p.add_argument_group("simulation")
     g.add_argument("--duration", type=number, default=0.5, metavar="S",
-                   help="simulated time (s, > 0; default %(default)g); the summary uses the "
-                        "second half")
+                   help="simulated time (s, > 0; default %(default)g); the first half is the "
+                        "start transient, the summary uses the second half. The periodic / "
+                        "quasi-periodic verdict needs at least 20 shaft turns in that half "
+                        "(--duration >= 40 turns, 0.12 s at 20000 rpm) and the same verdict from "
+                        "its two halves, else it says 'undetermined' and how long to run")
     g.add_argument("--record-every", type=integer, default=1, metavar="STEPS",
                    help="keep every STEPS-th time step in the record (default %(default)d)")
-    g.add_argument("--qpi-threshold", type=number, default=s.qpi_threshold, metavar="Q",
+    g.add_argument("--qpi-threshold", type=number, default=QPI_THRESHOLD, metavar="Q",
                    help="quasi-periodicity index above which the motion is called "
-                        "quasi-periodic (dimensionless, 0-2; default %(default)g)")
+                        "quasi-periodic (dimensionless, 0-2; default %(default)g, the package's "
+                        "QPI_THRESHOLD)")
     g.add_argument("--out", default="simulation", metavar="DIR",
                    help="output directory for record.npz, summary.json and the PNG plots "
                         "(default %(default)s)")
@@ -166,7 +175,8 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.Argument
     g.add_argument("--rpms", type=number, nargs="+", metavar="RPM", default=None,
                    help="shaft speeds (rpm; default: --rpm only)")
     g.add_argument("--radial-loads", type=number, nargs="+", metavar="N", default=None,
-                   help="radial loads P_x = P_y (N; default: --radial-load only)")
+                   help="radial loads, each on both axes: P_x = P_y (N per axis, resultant "
+                        "1.414 times larger at 45 deg; default: --radial-load only)")
     g.add_argument("--clearances-um", type=number, nargs="+", metavar="UM", default=None,
                    help="clearances c_i = c_o (um; default: --clearance-um only)")
     g.add_argument("--damping-ratios", type=number, nargs="+", metavar="ZETA", default=None,

@@ -3,6 +3,7 @@ the record, the summary and the plots."""
 
 from __future__ import annotations
 
+import dataclasses
 import json
 import math
 from pathlib import Path
@@ -13,11 +14,100 @@ from .errors import CLIError, RunError, check_option, one_line
 from .options import params_from_args
 from .output import Out, RecordWindow, advance, op_text, params_dict
 
-__all__ = ["cmd_simulate"]
+__all__ = ["cmd_simulate", "MIN_POINCARE_POINTS", "Verdict", "judge_motion", "simulate_figures",
+           "spectrum_upper_limit"]
+
+# A verdict needs at least this many once-per-turn Poincare points in EACH half of the analysed
+# window: the spread of n points is known to about 1 / sqrt(2 (n - 1)), 24 % for 10.
+MIN_POINCARE_POINTS = 10
 
 _RECORD_FIELDS = ("t", "x", "y", "z", "theta_x", "theta_y", "x_dot", "y_dot", "z_dot",
                   "theta_x_dot", "theta_y_dot", "cage_speed", "cage_angle", "shaft_angle",
                   "bearing_force", "n_inner_contacts")
+
+
+@dataclasses.dataclass(frozen=True)
+class Verdict:
+    """The motion of the analysed window: ``text`` (periodic, quasi-periodic, static or
+    undetermined), the index of the window and of its two halves, the Poincare points of the
+    window, and ``warning`` (None when the verdict holds)."""
+
+    text: str
+    qpi: float | None
+    qpi_halves: tuple[float, float] | None
+    poincare_points: int
+    reliable: bool
+    warning: str | None = None
+    suggested_duration_s: float | None = None
+
+
+def _classify(q: float, threshold: float) -> str:
+    return "periodic (period-1)" if q < threshold else "quasi-periodic (or chaotic)"
+
+
+def judge_motion(t, signals, shaft_speed_rad_s: float, threshold: float,
+                 duration_s: float) -> Verdict:
+    """Periodic or quasi-periodic, from the quasi-periodicity index of the analysed window
+    ``t`` (the run's second half; ``duration_s`` is the whole run) -- and whether that verdict
+    can be trusted.
+
+    The run starts from the static equilibrium, so the rotor rings; the index of a window that
+    still holds the decaying transient reads quasi-periodic for motion that settles to
+    period-1. The verdict is given only when (1) each half of the window holds at least
+    ``MIN_POINCARE_POINTS`` once-per-turn points and (2) the index of the whole window and of
+    each half fall on the same side of ``threshold``: a transient that still rings makes the
+    first half (or the drift across the halves) read higher than the second. Otherwise the
+    verdict is "undetermined" with a warning saying why and a longer ``--duration`` to try.
+    """
+    import numpy as np
+
+    from bearing_gym.analysis.signals import quasi_periodicity_index
+
+    t = np.asarray(t, dtype=float)
+    span = float(t[-1] - t[0]) if len(t) else 0.0
+    if shaft_speed_rad_s <= 0:
+        return Verdict("static (shaft not turning)", 0.0, None, 0, True)
+    period = 2.0 * math.pi / shaft_speed_rad_s
+    turns = span / period
+    points = int(math.floor(turns + 1e-9)) + 1 if len(t) else 0
+    try:
+        qpi = quasi_periodicity_index(t, signals, shaft_speed_rad_s)
+    except ValueError:
+        qpi = None
+    need_turns = 2 * MIN_POINCARE_POINTS          # turns in the window for 10 points per half
+    need_duration = 2.0 * need_turns * period     # the window is the run's second half
+    if qpi is None or turns < need_turns:
+        longer = max(need_duration, 2.0 * duration_s)
+        return Verdict(
+            "undetermined (window too short for a verdict)", qpi, None, points, False,
+            f"the analysed second half spans {turns:.1f} shaft turns ({points} Poincare "
+            f"points); a verdict needs at least {need_turns} ({MIN_POINCARE_POINTS} per half "
+            f"of the window), i.e. --duration of at least {need_duration:.3g} s at this speed; "
+            f"rerun with e.g. --duration {_nice(longer)}", longer)
+    half = len(t) // 2
+    halves = (quasi_periodicity_index(t[:half], signals[:half], shaft_speed_rad_s),
+              quasi_periodicity_index(t[half:], signals[half:], shaft_speed_rad_s))
+    sides = {q < threshold for q in (qpi, *halves)}
+    if len(sides) > 1:
+        longer = 2.0 * duration_s
+        return Verdict(
+            f"undetermined (not settled; the window's index alone reads "
+            f"{_classify(qpi, threshold).split(' (')[0]})",
+            qpi, halves, points, False,
+            f"the verdict is not settled: the index of the window ({qpi:.3f}) and of its halves "
+            f"({halves[0]:.3f}, then {halves[1]:.3f}) fall on both sides of the threshold "
+            f"{threshold:g}: the start transient is still decaying (or the motion sits at the "
+            f"threshold); rerun with a longer --duration, e.g. {_nice(longer)}", longer)
+    return Verdict(_classify(qpi, threshold), qpi, halves, points, True)
+
+
+def _nice(seconds: float) -> str:
+    """A round duration at least ``seconds`` (1, 2 or 5 times a power of ten), as text."""
+    e = math.floor(math.log10(seconds))
+    for m in (1, 2, 5, 10):
+        if m * 10.0 ** e >= seconds * (1 - 1e-9):
+            return f"{m * 10.0 ** e:g}"
+    return f"{seconds:g}"  # pragma: no cover
 
 
 def cmd_simulate(args, say: Out) -> int:
@@ -25,8 +115,6 @@ def cmd_simulate(args, say: Out) -> int:
 
     import numpy as np
 
-    from bearing_gym.analysis.poincare import shaft_section
-    from bearing_gym.analysis.signals import quasi_periodicity_index
     from bearing_gym.analysis.spectra import (ball_pass_frequency, ball_pass_frequency_inner,
                                               principal_frequency, spectral_peaks)
     from bearing_gym.physics import SimulationError, Simulator
@@ -77,18 +165,8 @@ def cmd_simulate(args, say: Out) -> int:
     ptp = {k: float(np.ptp(getattr(win, k))) for k in ("x", "y", "z", "cage_speed")}
     cage_mean = float(np.mean(win.cage_speed))
     xyz = np.column_stack([win.x, win.y, win.z])
-    try:
-        qpi = quasi_periodicity_index(win.t, xyz, w)
-    except ValueError:
-        qpi = None
-    if qpi is None:
-        verdict = "undetermined (the second half spans fewer than 3 shaft periods)"
-    elif w == 0:
-        verdict = "static (shaft not turning)"
-    elif qpi < args.qpi_threshold:
-        verdict = "periodic (period-1)"
-    else:
-        verdict = "quasi-periodic (or chaotic)"
+    judged = judge_motion(win.t, xyz, w, args.qpi_threshold, duration)
+    qpi, verdict = judged.qpi, judged.text
     freqs = {}
     for k in ("x", "y", "z", "cage_speed"):
         try:
@@ -110,7 +188,9 @@ def cmd_simulate(args, say: Out) -> int:
                    principal_frequency_hz={k: v for k, v in freqs.items()},
                    spectral_peaks_x_hz=[f for f, _ in peaks_x], reference_frequencies_hz=ref,
                    quasi_periodicity_index=qpi, qpi_threshold=args.qpi_threshold,
-                   motion=verdict, params=params_dict(params))
+                   motion=verdict, qpi_halves=judged.qpi_halves,
+                   poincare_points=judged.poincare_points, verdict_reliable=judged.reliable,
+                   warning=judged.warning, params=params_dict(params))
 
     def hz(v: float) -> str:
         return "n/a" if not math.isfinite(v) else f"{v:.1f}"
@@ -127,87 +207,134 @@ def cmd_simulate(args, say: Out) -> int:
         f"N (w - w_c) {ref['ball_pass_inner_hz']:.1f}")
     q_txt = "n/a" if qpi is None else f"{qpi:.3f}"
     say(f"  motion: {verdict} (quasi-periodicity index {q_txt}, threshold {args.qpi_threshold:g})")
+    if judged.warning:
+        say(f"  warning: {judged.warning}")
 
     written = ["record.npz", "summary.json"]
     if not args.no_plots:
-        written += _simulate_plots(rec, late, params, freqs, ref, qpi, out, shaft_section)
+        for name, fig in simulate_figures(rec, late, params, freqs, ref, qpi).items():
+            fig.savefig(out / name, dpi=110)
+            written.append(name)
     (out / "summary.json").write_text(json.dumps(to_jsonable(dict(summary, files=written)),
                                                  indent=1) + "\n")
     say(f"  wrote {', '.join(written)} in {out}")
     return 0
 
 
-def _simulate_plots(rec, late, params, freqs, ref, qpi, out: Path, shaft_section) -> list[str]:
+def spectrum_upper_limit(f, psds, floor: float, refs) -> float:
+    """The upper frequency limit (Hz) of a spectrum panel: 10 % beyond the highest frequency at
+    which a plotted PSD is above the panel's ``floor`` or a reference line stands, but at most
+    five times the highest reference (five ball-pass harmonics; broadband content beyond is
+    not news) and at most the Nyquist frequency ``f[-1]``."""
+    import numpy as np
+
+    refs = [v for v in refs if v > 0 and math.isfinite(v)]
+    last = 0.0
+    for p in psds:
+        above = np.nonzero(np.asarray(p) > floor)[0]
+        if above.size:
+            last = max(last, float(f[above[-1]]))
+    hi = 1.1 * max([last, *refs, 10.0 / 1.1])
+    if refs:
+        hi = min(hi, 5.0 * max(refs))
+    return float(min(hi, f[-1]))
+
+
+_SERIES = (("x", 1e6, "x displacement (um)"), ("y", 1e6, "y displacement (um)"),
+           ("z", 1e6, "z (axial) displacement (um)"), ("cage_speed", 1.0, "cage speed (rad/s)"))
+
+
+def simulate_figures(rec, late, params, freqs, ref, qpi) -> dict:
+    """The figures of ``simulate`` by file name (matplotlib Figures, drawn off-screen):
+    time series, orbit, spectra and Poincare section of the record ``rec`` whose analysed
+    window is the mask ``late``."""
     import numpy as np
     from matplotlib.figure import Figure
 
+    from bearing_gym.analysis.poincare import shaft_section
     from bearing_gym.analysis.spectra import power_spectrum
 
     title = op_text(params)
     t = rec.t
-    written = []
+    tl = t[late]
+    window = f"t = {tl[0]:.3g}-{tl[-1]:.3g} s"
+    figs = {}
+
+    def hz(v: float) -> str:
+        return "n/a" if not math.isfinite(v) else f"{v:.1f} Hz"
 
     fig = Figure(figsize=(8, 8), layout="constrained")
     axes = fig.subplots(4, 1, sharex=True)
-    for ax, (k, f, unit) in zip(axes, (("x", 1e6, "um"), ("y", 1e6, "um"), ("z", 1e6, "um"),
-                                       ("cage_speed", 1.0, "rad/s"))):
+    for ax, (k, f, label) in zip(axes, _SERIES):
         ax.plot(t * 1e3, getattr(rec, k) * f, lw=0.6)
-        ax.axvspan(t[0] * 1e3, t[late][0] * 1e3, color="0.9", lw=0)
-        ax.set_ylabel(f"{k} ({unit})")
+        ax.axvspan(t[0] * 1e3, tl[0] * 1e3, color="0.9", lw=0)
+        ax.set_ylabel(label, fontsize=8)
         ax.grid(alpha=0.3)
-    axes[0].set_title(f"time series (grey: first half, not summarised)\n{title}", fontsize=8)
-    axes[-1].set_xlabel("t (ms)")
-    fig.savefig(out / "timeseries.png", dpi=110)
-    written.append("timeseries.png")
+    axes[0].set_title(f"rotor displacement and cage speed over time (grey: first half, start "
+                      f"transient, not summarised)\n{title}", fontsize=8)
+    axes[-1].set_xlabel("time t (ms)")
+    figs["timeseries.png"] = fig
 
     fig = Figure(figsize=(9, 4.2), layout="constrained")
     a1, a2 = fig.subplots(1, 2)
     a1.plot(rec.x[late] * 1e6, rec.y[late] * 1e6, lw=0.5)
-    a1.set_xlabel("x (um)")
-    a1.set_ylabel("y (um)")
+    a1.set(xlabel="x displacement (um)", ylabel="y displacement (um)", title="radial (x-y)")
     a1.set_aspect("equal", adjustable="datalim")
     a2.plot(rec.x[late] * 1e6, rec.z[late] * 1e6, lw=0.5)
-    a2.set_xlabel("x (um)")
-    a2.set_ylabel("z (um)")
+    a2.set(xlabel="x displacement (um)", ylabel="z (axial) displacement (um)",
+           title="radial-axial (x-z)")
     for ax in (a1, a2):
+        ax.title.set_fontsize(8)
         ax.grid(alpha=0.3)
-    fig.suptitle(f"orbit, second half\n{title}", fontsize=8)
-    fig.savefig(out / "orbit.png", dpi=110)
-    written.append("orbit.png")
+    fig.suptitle(f"orbit of the rotor centre, second half ({window})\n{title}", fontsize=8)
+    figs["orbit.png"] = fig
 
     fig = Figure(figsize=(8, 6), layout="constrained")
     axes = fig.subplots(2, 1)
-    tl = t[late]
-    top = [0.0, 0.0]
+    panels: list[tuple[np.ndarray, list]] = [(np.zeros(1), []), (np.zeros(1), [])]
     for k in ("x", "y", "z"):
         try:
             f, p = power_spectrum(tl, getattr(rec, k)[late])
         except ValueError:
             continue
-        axes[0].semilogy(f, np.maximum(p, 1e-40) * 1e12, lw=0.8, label=f"{k} (PSD, um^2/Hz)")
-        top[0] = max(top[0], float(np.max(p)) * 1e12)
+        axes[0].semilogy(f, np.maximum(p, 1e-40) * 1e12, lw=0.8, label=f"{k}")
+        panels[0] = (f, panels[0][1] + [p * 1e12])
     try:
         f, p = power_spectrum(tl, rec.cage_speed[late])
         axes[1].semilogy(f, np.maximum(p, 1e-40), lw=0.8, color="C3", label="cage speed")
-        top[1] = float(np.max(p))
+        panels[1] = (f, [p])
     except ValueError:
         pass
-    for ax, hi in zip(axes, top):
+    names = dict(shaft_hz="shaft speed", ball_pass_outer_hz="ball pass N w_c",
+                 ball_pass_inner_hz="ball pass N (w - w_c)")
+    for ax, (f, psds) in zip(axes, panels):
+        hi = max((float(np.max(p)) for p in psds), default=0.0)
         if hi > 0:
-            ax.set_ylim(hi * 1e-12, hi * 10)       # 12 decades: the noise floor is not news
+            # at most 12 decades, and no lower than a decade below the spectrum's own floor
+            # (its 1st percentile): the noise floor is not news
+            floor = hi * 1e-12
+            top_f = spectrum_upper_limit(f, psds, floor, ref.values())
+            shown = np.concatenate([p[(f > 0) & (f <= top_f)] for p in psds])
+            floor = max(floor, 0.1 * float(np.percentile(shown, 1))) if shown.size else floor
+            ax.set_ylim(floor, hi * 10)
+            ax.set_xlim(0, top_f)
+        else:
+            ax.text(0.5, 0.5, "no spectrum (window too short or signal constant)",
+                    ha="center", va="center", transform=ax.transAxes)
+            ax.set_xlim(0, max(1.1 * max(ref.values()), 10.0))
         for (lab, v), ls in zip(ref.items(), (":", "--", "-.")):
             if v > 0 and math.isfinite(v):
-                ax.axvline(v, color="0.4", ls=ls, lw=0.8, label=lab.replace("_hz", ""))
-        ax.set_xlim(0, max(5 * max(ref.values()), 10.0))
+                ax.axvline(v, color="0.4", ls=ls, lw=0.8, label=names.get(lab, lab))
         ax.grid(alpha=0.3)
         ax.legend(fontsize=7)
     axes[0].set_ylabel("PSD of x, y, z (um^2/Hz)")
     axes[1].set_ylabel("PSD of cage speed ((rad/s)^2/Hz)")
-    axes[1].set_xlabel("frequency (Hz)")
-    axes[0].set_title(f"spectra, second half; principal x {freqs['x']:.1f} Hz, cage "
-                      f"{freqs['cage_speed']:.1f} Hz\n{title}", fontsize=8)
-    fig.savefig(out / "spectrum.png", dpi=110)
-    written.append("spectrum.png")
+    for ax in axes:
+        ax.set_xlabel("frequency (Hz)")
+    axes[0].set_title(f"power spectral density, second half ({window}); principal frequency x "
+                      f"{hz(freqs['x'])}, cage speed {hz(freqs['cage_speed'])}\n{title}",
+                      fontsize=8)
+    figs["spectrum.png"] = fig
 
     fig = Figure(figsize=(9, 4.2), layout="constrained")
     a1, a2 = fig.subplots(1, 2)
@@ -216,16 +343,16 @@ def _simulate_plots(rec, late, params, freqs, ref, qpi, out: Path, shaft_section
     except ValueError:
         pts = np.empty((0, 3))
     a1.plot(pts[:, 0], pts[:, 1], "o", ms=3)
-    a1.set_xlabel("x (um)")
-    a1.set_ylabel("y (um)")
+    a1.set(xlabel="x displacement (um)", ylabel="y displacement (um)")
     a2.plot(pts[:, 0], pts[:, 2], "o", ms=3)
-    a2.set_xlabel("x (um)")
-    a2.set_ylabel("z (um)")
+    a2.set(xlabel="x displacement (um)", ylabel="z (axial) displacement (um)")
     for ax in (a1, a2):
         ax.grid(alpha=0.3)
+        if not len(pts):
+            ax.text(0.5, 0.5, "no Poincare points: the window holds no full shaft turn",
+                    ha="center", va="center", transform=ax.transAxes, fontsize=8)
     q = "n/a" if qpi is None else f"{qpi:.3f}"
-    fig.suptitle(f"Poincare section once per shaft revolution ({len(pts)} points, "
+    fig.suptitle(f"Poincare section once per shaft revolution, second half ({len(pts)} points, "
                  f"quasi-periodicity index {q})\n{title}", fontsize=8)
-    fig.savefig(out / "poincare.png", dpi=110)
-    written.append("poincare.png")
-    return written
+    figs["poincare.png"] = fig
+    return figs

@@ -177,7 +177,7 @@ def cmd_sweep(args, say: Out) -> int:
         f"{len(rows)} rows for this grid, {len(other) + len(rows)} in the file")
     _say_critical(rows, say)
     if args.plot:
-        _sweep_plot(rows, lists, Path(args.plot), args.mode)
+        _sweep_plot(rows, lists, Path(args.plot), args.mode, args.qpi_threshold, base)
         say(f"  figure: {args.plot}")
     return 0
 
@@ -196,14 +196,23 @@ def _say_critical(rows: list[dict], say: Out) -> None:
         say(f"  {label}: {periodic}/{len(rs)} points period-1; {crit}{fails}")
 
 
-def _sweep_plot(rows: list[dict], lists: dict, path: Path, mode: str) -> None:
-    title = f"bearing-gym sweep ({mode})"
+def _sweep_plot(rows: list[dict], lists: dict, path: Path, mode: str, qpi_threshold: float,
+                base) -> None:
     varied = [k for k, v in lists.items() if k != "preloads" and len(v) > 1]
     column = {"rpms": "shaft_speed_rpm", "radial_loads": "radial_load_x_n",
               "clearances_um": "clearance_m", "damping_ratios": "damping_ratio"}
+    fixed = op_text(base).replace(f"P_z = {base.loads.axial_preload_n:g} N, ", "")
+    how = ("descending continuation" if mode == "continuation" else "cold starts from the "
+           "static equilibrium")
     if varied:
-        fig = sweeps.plot_stability_map(rows, y=column[varied[0]], title=title)
+        ylabel = sweeps.column_label(column[varied[0]])[0]
+        fig = sweeps.plot_stability_map(
+            rows, y=column[varied[0]], qpi_threshold=qpi_threshold,
+            title=f"bearing-gym sweep: stability map over axial preload and {ylabel} "
+                  f"({how}); other parameters as in {fixed}")
     else:
-        fig = sweeps.plot_sweep(rows, title=title)
+        fig = sweeps.plot_sweep(
+            rows, qpi_threshold=qpi_threshold,
+            title=f"bearing-gym sweep: response vs axial preload ({how}); {fixed}")
     path.parent.mkdir(parents=True, exist_ok=True)
     fig.savefig(path, dpi=110)

@@ -45,28 +45,47 @@ def record_interval(batch, b: int, history: deque, poincare: deque) -> np.ndarra
     return w[:, R_X:R_X + 3].copy()
 
 
+def _note(ax, text: str) -> None:
+    """A grey note in the middle of an empty panel (so no frame shows bare axes)."""
+    ax.text(0.5, 0.5, text, ha="center", va="center", transform=ax.transAxes, fontsize=7,
+            color="0.35")
+    ax.set_xticks([])                 # no 0-1 placeholder scale on a panel without data
+    ax.set_yticks([])
+
+
 def draw_frame(fig, orbit: np.ndarray | None, poincare, history) -> None:
     """The three panels of a frame on ``fig``: the x-y orbit of the last interval, the Poincare
     section (x, z once per shaft turn) and the preload and set-point over time. ``orbit`` is
-    drawn only once the episode has a history (it would be the previous episode's)."""
+    drawn only once the episode has a history (it would be the previous episode's). A panel
+    with nothing to draw yet (the reset frame: the settled start, before the first control
+    interval) says so instead of showing empty axes."""
     ax1, ax2, ax3 = fig.subplots(1, 3)
     if orbit is not None and len(history):
         ax1.plot(orbit[:, 0] * 1e6, orbit[:, 1] * 1e6, lw=0.6)
+    else:
+        _note(ax1, "reset: settled start,\nno control interval yet\n(the orbit of each control\n"
+                   "interval is drawn after it)" if not len(history) else
+                   "no samples in the last interval")
     ax1.set(title="orbit (last interval)", xlabel="x (um)", ylabel="y (um)")
     if len(poincare):
         p = np.array(poincare)
         ax2.plot(p[:, 0] * 1e6, p[:, 1] * 1e6, ".", ms=2)
+    else:
+        _note(ax2, "no Poincare points yet\n(one per shaft turn\nonce the episode runs)")
     ax2.set(title="Poincare (once per turn)", xlabel="x (um)", ylabel="z (um)")
     if len(history):
         h = np.array(history)
-        ax3.plot(h[:, 0], h[:, 1], label="preload")
-        ax3.plot(h[:, 0], h[:, 2], "--", label="set-point")
+        mark = "o" if len(h) == 1 else None        # one point: a line would draw nothing
+        ax3.plot(h[:, 0], h[:, 1], marker=mark, label="preload")
+        ax3.plot(h[:, 0], h[:, 2], "--", marker=mark, mfc="none", label="set-point")
         ax3.legend(fontsize=7)
         lo, hi = float(h[:, 1:3].min()), float(h[:, 1:3].max())
         pad = max(50.0, 0.1 * (hi - lo))      # newtons: no 1e-6 N offset axis for a flat trace
         ax3.set_ylim(lo - pad, hi + pad)
         ax3.ticklabel_format(axis="y", useOffset=False)
-    ax3.set(title="preload", xlabel="t (s)", ylabel="N")
+    else:
+        _note(ax3, "reset: t = 0 s\n(the preload and set-point\ntraces start with the first step)")
+    ax3.set(title="preload", xlabel="t (s)", ylabel="preload (N)")
     fig.tight_layout()
 
 

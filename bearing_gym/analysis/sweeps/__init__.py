@@ -13,7 +13,7 @@ Every public name of these modules but the store's is importable from here.
 """
 
 from .io import load_csv, save_csv, save_npz
-from .plots import plot_stability_map, plot_sweep
+from .plots import column_label, plot_stability_map, plot_sweep, point_classes
 from .points import (AXIAL_SHARE, COLUMNS, SweepSettings, axial_index, axial_pair,
                      cold_start_point, continuation_chain, measure_point, operating_point)
 from .results import critical_preload, stable_windows
@@ -23,4 +23,4 @@ __all__ = ["COLUMNS", "SweepSettings", "SerialExecutor", "AXIAL_SHARE", "measure
            "axial_index", "axial_pair", "operating_point", "continuation_chain",
            "cold_start_point", "run_tasks", "stability_map", "critical_preload",
            "stable_windows", "save_csv", "load_csv", "save_npz", "plot_sweep",
-           "plot_stability_map"]
+           "plot_stability_map", "column_label", "point_classes"]
