@@ -73,17 +73,22 @@ def paired_ci(diff: np.ndarray) -> tuple[float, float, float]:
     return m, m - h, m + h
 
 
-def main(argv: list[str] | None = None) -> None:
+def build_parser() -> argparse.ArgumentParser:
+    from .protocol import TIER_DESIGN
     ap = argparse.ArgumentParser(description="MPC (true simulator) vs the hindsight best constant, paired")
     ap.add_argument("--tier", default="transient")
-    ap.add_argument("--seed", type=int, default=200000)
+    ap.add_argument("--seed", type=int, default=TIER_DESIGN.start)
     ap.add_argument("--episodes", type=int, default=20)
     ap.add_argument("--grid-step", type=float, default=50.0)
     ap.add_argument("--horizon", type=int, default=10, help="MPC look-ahead (control intervals)")
     ap.add_argument("--replan-every", type=int, default=5)
     ap.add_argument("--processes", type=int, default=2)
     ap.add_argument("--out", default=None, help="JSON file for the per-scenario results")
-    a = ap.parse_args(argv)
+    return ap
+
+
+def main(argv: list[str] | None = None) -> None:
+    a = build_parser().parse_args(argv)
     jobs = [(a.tier, a.seed + i, a.grid_step, a.horizon, a.replan_every) for i in range(a.episodes)]
     rows = []
     t0 = time.time()
