@@ -133,7 +133,6 @@ def watch(args, say: Out) -> int:
     import numpy as np
 
     import bearing_gym  # noqa: F401 - registers BearingPreload-v0
-    from bearing_gym.envs.bearing_preload import _latest_path
 
     for opt, value, low, high in (("--episodes", args.episodes, 1, 1000),
                                   ("--steps", args.steps, 1, 100000),
@@ -154,10 +153,11 @@ def watch(args, say: Out) -> int:
             with warnings.catch_warnings():      # the headless note is printed below instead
                 warnings.filterwarnings("ignore", message=".*render_mode='human'")
                 obs, info = env.reset(seed=args.seed + ep)
-            if ep == 0 and base._window_state == "none":
+            target = base.human_render_target
+            if ep == 0 and target not in (None, "window"):
                 say("no display (or no interactive matplotlib backend): "
                     + (f"frames go to {args.frames}" if args.frames else
-                       f"the latest frame goes to {_latest_path()} (--frames DIR keeps all)"))
+                       f"the latest frame goes to {target} (--frames DIR keeps all)"))
             sc = base.scenario
             sp = sc.speed_profile
             speed = " -> ".join(f"{v:.0f}" for k, (_, v) in enumerate(sp) if k == 0 or v != sp[k - 1][1])

@@ -17,7 +17,7 @@ from .common import (DEFAULTS, check_actions, configure, measurement, observe, r
                      reset_info, step_outputs)
 from .rendering import FRAME_DPI, FRAME_SIZE_IN, draw_frame, record_interval, rgb_frame
 
-__all__ = ["BearingPreloadEnv"]
+__all__ = ["BearingPreloadEnv", "latest_frame_path"]
 
 
 class BearingPreloadEnv(gym.Env):
@@ -223,7 +223,7 @@ class BearingPreloadEnv(gym.Env):
             self._window_state = "open" if self._window is not None else "none"
             if self._window is None and self.render_dir is None:
                 gym.logger.warn(f"render_mode='human': no interactive matplotlib backend (no "
-                                f"display?); writing the latest frame to {_latest_path()} "
+                                f"display?); writing the latest frame to {latest_frame_path()} "
                                 "(pass render_dir=... to keep every frame)")
         title = self._title()
         if self._window_state == "open":
@@ -249,7 +249,7 @@ class BearingPreloadEnv(gym.Env):
             self.render_dir.mkdir(parents=True, exist_ok=True)
             path = self.render_dir / f"frame_{self._frames:05d}.png"
         else:
-            path = _latest_path()
+            path = latest_frame_path()
             path.parent.mkdir(parents=True, exist_ok=True)
         fig.savefig(path)
         self._frames += 1
@@ -261,6 +261,17 @@ class BearingPreloadEnv(gym.Env):
         return (f"t = {t:.2f} s, preload {p:.0f} N, set-point {sp:.0f} N, "
                 f"quasi-periodicity index {q:.3f}")
 
+    @property
+    def human_render_target(self) -> str | None:
+        """Where ``render_mode="human"`` draws, once the first frame is out: ``"window"``, the
+        frames folder (``render_dir``), the latest-frame PNG (headless, no ``render_dir``), or
+        None (not human mode, nothing drawn yet, or the window was closed)."""
+        if self.render_mode != "human" or self._window_state in ("unopened", "closed"):
+            return None
+        if self._window_state == "open":
+            return "window"
+        return str(self.render_dir) if self.render_dir is not None else str(latest_frame_path())
+
     def close(self) -> None:
         if self._window is not None:
             import matplotlib.pyplot as plt
@@ -269,7 +280,7 @@ class BearingPreloadEnv(gym.Env):
         super().close()
 
 
-def _latest_path() -> Path:
+def latest_frame_path() -> Path:
     import tempfile
     # not <tmp>/bearing_gym: a folder of the package's name would shadow the package for any
     # script run from the temp dir
