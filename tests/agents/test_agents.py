@@ -229,3 +229,42 @@ def test_episode_results_do_not_depend_on_the_batch_they_run_in():
                          episodes=2, seed=100000, episode_steps=3)[2]
     np.testing.assert_array_equal(alone.returns, mixed.returns)
     np.testing.assert_array_equal(alone.trace["qpi"], mixed.trace["qpi"])
+
+
+def _diverging(limit_m):
+    # a tight divergence limit makes the integrator "diverge" (terminate the episode) on purpose
+    from bearing_gym import default_params
+    return {"scenario": "paper", "params": default_params(divergence_limit_m=limit_m)}
+
+
+def test_evaluation_reports_episodes_that_all_terminate_in_the_same_step(tmp_path):
+    from agents.evaluate import write_report
+    from bearing_gym.envs.reward import RewardModel
+    # every env of the batch ends in the same step: the next venv.step would only autoreset them
+    res = run_policies([ConstantPreload(300.0)], episodes=2, seed=0, episode_steps=25,
+                       env_kwargs=_diverging(2e-5))[0]
+    assert res.terminated.all() and res.terminated_count == 2
+    assert np.all(np.isfinite(res.returns))
+    assert np.all(res.returns <= -RewardModel().termination_penalty)   # the penalty is in the return
+    # the trace stops where the episode ended, it does not run on into the autoreset episode
+    assert 1 <= len(res.trace["t"]) < 25 and np.all(np.diff(res.trace["t"]) > 0)
+    write_report([res], tmp_path, first_seed=0)
+    with (tmp_path / "evaluation.csv").open() as fh:
+        assert int(next(csv.DictReader(fh))["terminated_episodes"]) == 2
+    text = (tmp_path / "evaluation.md").read_text()
+    row = next(line for line in text.splitlines() if line.startswith(f"| {res.name} |"))
+    assert "terminated early" in text and row.endswith("| 2 |")
+    assert (tmp_path / "evaluation_traces.png").stat().st_size > 0
+
+
+def test_terminated_episodes_do_not_disturb_the_others_in_the_batch():
+    # at this limit the low preload diverges within a few steps, the high one does not
+    kw = _diverging(1e-4)
+    low, high = run_policies([ConstantPreload(300.0), ConstantPreload(2000.0)], episodes=2, seed=0,
+                             episode_steps=30, env_kwargs=kw)
+    alone = run_policies([ConstantPreload(2000.0)], episodes=2, seed=0, episode_steps=30, env_kwargs=kw)[0]
+    assert low.terminated.all() and not high.terminated.any()
+    assert len(low.trace["t"]) < 30 and len(high.trace["t"]) == 30
+    np.testing.assert_array_equal(high.returns, alone.returns)
+    np.testing.assert_array_equal(high.trace["qpi"], alone.trace["qpi"])
+    assert low.row()["terminated_episodes"] == 2 and high.row()["terminated_episodes"] == 0
