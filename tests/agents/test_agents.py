@@ -93,6 +93,18 @@ def test_smoke_training_saves_reloads_and_evaluates(algo, tmp_path, capsys):
         assert (out / name).exists(), name
     cfg = json.loads((out / "config.json").read_text())
     assert cfg["num_timesteps"] >= 128
+    # it says what it does, in plain lines: kernels, training progress up to the step count the
+    # run really reaches (no 36,352/36,000), validations, evaluation progress, where the outputs are
+    printed = capsys.readouterr().out
+    assert "numba kernels: ready" in printed and "validation at 64 steps" in printed
+    n = cfg["num_timesteps"]
+    assert f"training: 0 -> {n:,} steps" in printed and f"training: {n:,}/{n:,} steps (100 %)" in printed
+    assert "evaluation 1/2: step 16/16 (100 %)" in printed and "evaluation 2/2: step 16/16 (100 %)" in printed
+    announced = printed.split("outputs in")[1].splitlines()[1:]
+    for what, name in (("model", "model.zip"), ("evaluation table", "evaluation.md"),
+                       ("trace figure", "evaluation_traces.png"), ("tensorboard logs", "tensorboard")):
+        line = next(x for x in announced if x.strip().startswith(what))
+        assert str(out / name) in line and (out / name).exists(), line
     # model.zip is the best validation checkpoint, with the statistics saved with it
     best = json.loads((out / "eval" / "best.json").read_text())
     assert cfg["selected"] == "best validation checkpoint" and cfg["selected_timesteps"] == best["num_timesteps"]
