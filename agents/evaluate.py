@@ -310,9 +310,10 @@ def describe_scenario(sc) -> str:
     return f"{speed}, {load}, clearance {sc.clearance_m * 1e6:.1f} um"
 
 
-def plot_traces(results: list[EvalResult], path: Path, first_seed: int | None = None) -> None:
+def plot_traces(results: list[EvalResult], path: Path | None, first_seed: int | None = None):
     """evaluation_traces.png: preload, quasi-periodicity index and operating point over the
-    first evaluation scenario, for every policy with a trace (the hindsight reference included)."""
+    first evaluation scenario, for every policy with a trace (the hindsight reference included).
+    With ``path`` None the figure is returned instead of saved (the caller closes it)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
@@ -346,8 +347,11 @@ def plot_traces(results: list[EvalResult], path: Path, first_seed: int | None = 
     a1.set_title(f"First evaluation scenario ({seed}{sc})\npreload and quasi-periodicity index per policy"
                  + (" (x: the episode terminated early)" if ended else ""), fontsize=9)
     fig.tight_layout()
+    if path is None:
+        return fig
     fig.savefig(path, dpi=90)
     plt.close(fig)
+    return None
 
 
 def evaluate(model_dir: str | Path | list[str | Path] | None, episodes: int = 20, seed: int = TEST_SEED,

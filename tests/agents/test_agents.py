@@ -280,3 +280,23 @@ def test_terminated_episodes_do_not_disturb_the_others_in_the_batch():
     np.testing.assert_array_equal(high.returns, alone.returns)
     np.testing.assert_array_equal(high.trace["qpi"], alone.trace["qpi"])
     assert low.row()["terminated_episodes"] == 2 and high.row()["terminated_episodes"] == 0
+
+
+def test_trace_figure_names_its_scenario_shows_the_hindsight_reference_and_labels_every_axis():
+    from agents.evaluate import hindsight_constant, plot_traces
+    sweep = run_policies([ConstantPreload(800.0), ConstantPreload(1400.0)], episodes=2, seed=100000, episode_steps=4)
+    h = hindsight_constant(sweep)
+    chosen = sweep[int(np.argmax([r.returns[0] for r in sweep]))]
+    # the hindsight trace is the first scenario's chosen constant
+    assert h.trace is chosen.trace and chosen.name in h.trace_label
+    fig = plot_traces([sweep[0], h], None, first_seed=100000)
+    try:
+        title = fig.axes[0].get_title()
+        assert "seed 100000" in title and "rpm" in title and "radial load" in title and "clearance" in title
+        assert any(line.get_label() == h.trace_label for line in fig.axes[0].get_lines())
+        for ax in fig.axes:
+            assert ax.get_ylabel().endswith(")"), ax.get_ylabel()       # every axis has its unit
+        assert fig.axes[2].get_xlabel() == "time in episode (s)"
+    finally:
+        import matplotlib.pyplot as plt
+        plt.close(fig)
