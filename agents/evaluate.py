@@ -197,7 +197,8 @@ def run_policies(policies: list[Policy], episodes: int, seed: int, episode_steps
         alive &= ~term
         report.update(k + 1)
         if not alive.any():           # all ended early; the next step would only autoreset them
-            report.update(episode_steps)
+            if progress:
+                print(f"{report.label}: every episode ended early, by step {k + 1}/{episode_steps}", flush=True)
             break
     out = []
     for p, pol in enumerate(policies):
