@@ -179,6 +179,7 @@ def main(argv: list[str] | None = None) -> int:
     resumed = bool(args.resume and latest)
     callbacks = CallbackList([
         ValidationCallback(eval_env, validation_seed=args.val_seed, resume=resumed, n_eval_episodes=args.val_episodes,
+                           progress_every_s=PROGRESS_EVERY_S,
                            eval_freq=max(1, args.eval_freq // per_env), best_model_save_path=str(out / "eval"),
                            log_path=str(out / "eval"), deterministic=True),
         CheckpointCallback(save_freq=max(1, args.checkpoint_freq // per_env), save_path=str(ckpt_dir),

@@ -39,6 +39,8 @@ class ValidationCallback(EvalCallback):
         ``validation_seed + i``; each env then runs its episodes one after the other).
     :param best_model_save_path: directory for ``best_model.zip``, ``best_vec_normalize.pkl`` and
         ``best.json`` (mean validation return and step count of the best checkpoint).
+    :param progress_every_s: during an evaluation, print a line with the episodes done at most
+        this often (None: only SB3's line at the end).
     :param resume: continue an earlier run: its ``best.json`` is read, so a later checkpoint must
         beat the earlier best, and the validation history in ``log_path/evaluations.npz`` is
         extended rather than overwritten. A new run (``False``) deletes an earlier run's best
@@ -46,9 +48,12 @@ class ValidationCallback(EvalCallback):
     Other arguments as for ``EvalCallback``.
     """
 
-    def __init__(self, eval_env, validation_seed: int, best_model_save_path: str, resume: bool = False, **kwargs):
+    def __init__(self, eval_env, validation_seed: int, best_model_save_path: str, resume: bool = False,
+                 progress_every_s: float | None = None, **kwargs):
         super().__init__(eval_env, best_model_save_path=best_model_save_path, **kwargs)
         self.validation_seed = int(validation_seed)
+        self.progress_every_s = progress_every_s
+        self._val_t0 = self._val_last = 0.0
         self.best_dir = Path(best_model_save_path)
         info = self.best_dir / BEST_INFO
         if not resume:
@@ -70,6 +75,7 @@ class ValidationCallback(EvalCallback):
             if self.verbose >= 1:
                 print(f"validation at {self.num_timesteps:,} steps: {self.n_eval_episodes} episodes on the "
                       f"validation scenarios (seeds from {self.validation_seed})...", flush=True)
+            self._val_t0 = self._val_last = time.monotonic()
         best_before = self.best_mean_reward
         keep_going = super()._on_step()
         if due and self.best_mean_reward > best_before:
@@ -82,6 +88,17 @@ class ValidationCallback(EvalCallback):
                  "validation_seed": self.validation_seed,
                  "episodes": int(self.n_eval_episodes)}, indent=2))
         return keep_going
+
+    def _log_success_callback(self, locals_, globals_) -> None:
+        super()._log_success_callback(locals_, globals_)
+        if self.progress_every_s is None:
+            return
+        now = time.monotonic()
+        if now - self._val_last >= self.progress_every_s:
+            self._val_last = now
+            done = int(np.sum(locals_["episode_counts"]))
+            print(f"validation: {done}/{self.n_eval_episodes} episodes done (the running ones at step "
+                  f"{int(np.max(locals_['current_lengths']))}), {now - self._val_t0:.0f} s", flush=True)
 
 
 def planned_timesteps(model, total_timesteps: int) -> int:
@@ -145,3 +162,4 @@ class ProgressBar(ProgressBarCallback):
     def _on_training_start(self) -> None:
         from stable_baselines3.common.callbacks import tqdm
         self.pbar = tqdm(total=self.end - self.model.num_timesteps)
+

@@ -175,7 +175,7 @@ def test_smoke_training_saves_reloads_and_evaluates(algo, tmp_path, capsys):
     assert (out / "model.zip").read_bytes() == (out / "last_model.zip").read_bytes()
 
 
-def test_validation_scores_every_checkpoint_on_the_same_scenarios(tmp_path):
+def test_validation_scores_every_checkpoint_on_the_same_scenarios(tmp_path, capsys):
     """The same policy evaluated twice by ValidationCallback gets the same returns (fixed
     validation scenarios); SB3's plain EvalCallback draws new scenarios each time."""
     sys.path.insert(0, str(ROOT))
@@ -196,8 +196,14 @@ def test_validation_scores_every_checkpoint_on_the_same_scenarios(tmp_path):
         cb.on_step()
         cb.on_step()
         return np.array(cb.evaluations_results)
-    fixed = two_evaluations(ValidationCallback, tmp_path / "fixed", validation_seed=50000)
+    fixed = two_evaluations(ValidationCallback, tmp_path / "fixed", validation_seed=50000, progress_every_s=0.0)
     np.testing.assert_array_equal(fixed[0], fixed[1])
+    # each evaluation is announced, then says how far it is (here at every step: 2 envs x 6 steps)
+    blocks = capsys.readouterr().out.split("validation at ")[1:]
+    assert len(blocks) == 2
+    for block in blocks:
+        done = [int(line.split()[1].split("/")[0]) for line in block.splitlines() if line.startswith("validation: ")]
+        assert len(done) >= 6 and done == sorted(done) and done[0] == 0 and done[-1] >= 1
     assert (tmp_path / "fixed" / "best_vec_normalize.pkl").exists()
     drawn = two_evaluations(EvalCallback, tmp_path / "drawn")
     assert not np.array_equal(np.sort(drawn[0]), np.sort(drawn[1]))
