@@ -12,6 +12,13 @@ checkpoint and its VecNormalize statistics are kept there), last_model.zip and
 last_vec_normalize.pkl (the final weights), and evaluation.md/.csv/_episodes.csv/_traces.png (agents.evaluate
 on held-out seeds). model.zip is the best validation checkpoint (--select best, the default) or
 the final weights (--select last).
+
+It reports as it goes, in plain lines that read the same in a terminal and in a log file
+(``python train.py > train.log 2>&1``): whether the numba kernels are being compiled (a one-off),
+training progress with the rate and the time left every 30 s (in a terminal without
+--no-progress a progress bar instead), each validation, the evaluation's progress, and at the
+end where the model, the evaluation table, the figure and the tensorboard logs are, with a
+command to look at each.
 """
 
 from __future__ import annotations
@@ -20,8 +27,11 @@ import argparse
 import json
 import os
 import shutil
+import sys
 import time
 from pathlib import Path
+
+PROGRESS_EVERY_S = 30.0     # at most one progress line per this many seconds
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -41,7 +51,8 @@ def build_parser() -> argparse.ArgumentParser:
                     help="model.zip = the best validation checkpoint or the final weights")
     ap.add_argument("--checkpoint-freq", type=int, default=6000, help="checkpoint period in environment steps")
     ap.add_argument("--resume", action="store_true", help="continue from the newest checkpoint in --out")
-    ap.add_argument("--no-progress", action="store_true", help="no progress bar")
+    ap.add_argument("--no-progress", action="store_true",
+                    help="no progress bar: plain progress lines, as when the output is not a terminal")
     return ap
 
 
@@ -65,6 +76,43 @@ def make_env(n_envs: int, seed: int, episode_steps: int):
     return VecMonitor(venv)
 
 
+def warm_up_kernels(n_envs: int) -> None:
+    """Compile (or load from the cache) the numba kernels the environment uses, saying which,
+    so that a first run does not sit silent for a minute."""
+    import numpy as np
+
+    import bearing_gym
+    from bearing_gym.envs import BearingPreloadVectorEnv
+    cache = Path(bearing_gym.NUMBA_CACHE_DIR)
+    kernel = "step_batch" if n_envs > 1 else "step_batch_serial"
+    if any(cache.glob(f"**/kernel.{kernel}-*.nbi")):
+        print(f"numba kernels: loading them from the cache {cache}", flush=True)
+    else:
+        print(f"numba kernels: compiling them (a one-off, about a minute on 2 cores; cached in {cache}, "
+              "later runs start in seconds)...", flush=True)
+    t = time.time()
+    venv = BearingPreloadVectorEnv(num_envs=2 if n_envs > 1 else 1, episode_steps=2, max_episode_steps=2)
+    venv.reset(seed=0)
+    venv.step(np.zeros((venv.num_envs, 1), dtype=np.float32))
+    venv.close()
+    print(f"numba kernels: ready after {time.time() - t:.0f} s", flush=True)
+
+
+def announce_outputs(out: Path, evaluated: bool, tensorboard_dir: Path | None) -> None:
+    """Where the results are, and one command to look at each."""
+    rows = [("model", out / "model.zip", f"bearing-gym-watch --model {out} --tier paper")]
+    if evaluated:
+        rows += [("evaluation table", out / "evaluation.md", f"cat {out / 'evaluation.md'}   (numbers: evaluation.csv)"),
+                 ("trace figure", out / "evaluation_traces.png",
+                  f"{'open' if sys.platform == 'darwin' else 'xdg-open'} {out / 'evaluation_traces.png'}")]
+    if tensorboard_dir is not None and tensorboard_dir.exists():
+        rows.append(("tensorboard logs", tensorboard_dir, f"tensorboard --logdir {tensorboard_dir}"))
+    width = max(len(str(path)) for _, path, _ in rows)
+    print(f"outputs in {out}/ (config.json: the settings and wall times):")
+    for what, path, cmd in rows:
+        print(f"  {what:<17} {str(path):<{width}}   {cmd}")
+
+
 def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     if args.timesteps < 1 or args.n_envs < 1:
@@ -81,7 +129,8 @@ def main(argv: list[str] | None = None) -> int:
     from stable_baselines3.common.callbacks import CallbackList, CheckpointCallback
     from stable_baselines3.common.vec_env import VecNormalize
 
-    from agents.callbacks import BEST_INFO, BEST_MODEL, BEST_VECNORMALIZE, ValidationCallback
+    from agents.callbacks import (BEST_INFO, BEST_MODEL, BEST_VECNORMALIZE, ProgressBar, ProgressLines,
+                                  ValidationCallback, planned_timesteps)
 
     torch.set_num_threads(1)          # the environment kernel uses the cores
     out = Path(args.out)
@@ -89,6 +138,10 @@ def main(argv: list[str] | None = None) -> int:
     algo_cls = {"ppo": PPO, "sac": SAC}[args.algo]
     off_policy = args.algo == "sac"   # its replay buffer is checkpointed too, so --resume continues it
     t0 = time.time()
+    print(f"train.py: {args.algo.upper()} on BearingPreload-v0, {args.timesteps:,} steps on {args.n_envs} "
+          f"envs (seed {args.seed}), then {args.eval_episodes} held-out evaluation episodes; output in {out}/",
+          flush=True)
+    warm_up_kernels(args.n_envs)
 
     env = make_env(args.n_envs, args.seed, args.episode_steps)
     eval_env = make_env(n_val_envs, args.val_seed, args.episode_steps)
@@ -120,11 +173,13 @@ def main(argv: list[str] | None = None) -> int:
             tb = None
         model = algo_cls("MlpPolicy", env, seed=args.seed, device="cpu", verbose=0,
                          tensorboard_log=tb, **hyperparams(args.algo))
+    tb_dir = Path(model.tensorboard_log) if model.tensorboard_log else None
     eval_env = VecNormalize(eval_env, norm_obs=True, norm_reward=False, training=False)
     per_env = max(1, args.n_envs)
     resumed = bool(args.resume and latest)
     callbacks = CallbackList([
         ValidationCallback(eval_env, validation_seed=args.val_seed, resume=resumed, n_eval_episodes=args.val_episodes,
+                           progress_every_s=PROGRESS_EVERY_S,
                            eval_freq=max(1, args.eval_freq // per_env), best_model_save_path=str(out / "eval"),
                            log_path=str(out / "eval"), deterministic=True),
         CheckpointCallback(save_freq=max(1, args.checkpoint_freq // per_env), save_path=str(ckpt_dir),
@@ -133,7 +188,16 @@ def main(argv: list[str] | None = None) -> int:
     # SB3 counts total_timesteps on top of num_timesteps when it does not reset them
     remaining = args.timesteps - model.num_timesteps if resumed else args.timesteps
     if remaining > 0:
-        model.learn(total_timesteps=remaining, callback=callbacks, progress_bar=not args.no_progress,
+        start = int(model.num_timesteps) if resumed else 0
+        end = start + planned_timesteps(model, remaining)
+        rounded = "" if end == args.timesteps else (
+            f" (--timesteps {args.timesteps:,} rounded up to whole rollouts, as SB3 collects them)")
+        bar = sys.stdout.isatty() and not args.no_progress
+        print(f"training: {start:,} -> {end:,} steps{rounded}; validation every {args.eval_freq:,} steps "
+              f"on {args.val_episodes} episodes; {'a progress bar' if bar else f'a line every {PROGRESS_EVERY_S:.0f} s'}",
+              flush=True)
+        callbacks.callbacks.append(ProgressBar(end) if bar else ProgressLines(end, every_s=PROGRESS_EVERY_S))
+        model.learn(total_timesteps=remaining, callback=callbacks, progress_bar=False,
                     reset_num_timesteps=not resumed)
     else:
         print(f"{model.num_timesteps} steps already done (--timesteps {args.timesteps}): no training")
@@ -155,14 +219,18 @@ def main(argv: list[str] | None = None) -> int:
         train_s += json.loads((out / "config.json").read_text()).get("train_wall_s", 0.0)
     cfg = dict(vars(args), train_wall_s=train_s, num_timesteps=int(model.num_timesteps), **selected)
     (out / "config.json").write_text(json.dumps(cfg, indent=2))
-    print(f"trained {model.num_timesteps} steps in {train_s / 60:.1f} min -> {out} "
-          f"(model.zip: {selected['selected']}, {selected['selected_timesteps']} steps)")
+    print(f"trained {model.num_timesteps:,} steps in {train_s / 60:.1f} min -> {out} "
+          f"(model.zip: {selected['selected']}, {selected['selected_timesteps']:,} steps)")
     if args.eval_episodes > 0:
         from agents.evaluate import evaluate
-        evaluate(out, episodes=args.eval_episodes, seed=TEST_SEED, episode_steps=args.episode_steps)
+        print(f"evaluating {out / 'model.zip'} and the scripted baselines on {args.eval_episodes} held-out "
+              f"scenarios (seeds {TEST_SEED}..{TEST_SEED + args.eval_episodes - 1})", flush=True)
+        evaluate(out, episodes=args.eval_episodes, seed=TEST_SEED, episode_steps=args.episode_steps,
+                 progress_every_s=PROGRESS_EVERY_S)
         cfg["total_wall_s"] = time.time() - t0
         (out / "config.json").write_text(json.dumps(cfg, indent=2))
-        print(f"total wall time {cfg['total_wall_s'] / 60:.1f} min")
+    announce_outputs(out, args.eval_episodes > 0, tb_dir)
+    print(f"total wall time {(time.time() - t0) / 60:.1f} min")
     return 0
 
 

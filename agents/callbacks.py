@@ -15,12 +15,15 @@ The validation seeds must differ from the held-out test seeds of ``agents.evalua
 from __future__ import annotations
 
 import json
+import math
+import time
 from pathlib import Path
 
 import numpy as np
-from stable_baselines3.common.callbacks import EvalCallback
+from stable_baselines3.common.callbacks import BaseCallback, EvalCallback, ProgressBarCallback
 
-__all__ = ["ValidationCallback", "BEST_MODEL", "BEST_VECNORMALIZE", "BEST_INFO"]
+__all__ = ["ValidationCallback", "ProgressLines", "ProgressBar", "planned_timesteps",
+           "BEST_MODEL", "BEST_VECNORMALIZE", "BEST_INFO"]
 
 BEST_MODEL = "best_model.zip"
 BEST_VECNORMALIZE = "best_vec_normalize.pkl"
@@ -36,6 +39,8 @@ class ValidationCallback(EvalCallback):
         ``validation_seed + i``; each env then runs its episodes one after the other).
     :param best_model_save_path: directory for ``best_model.zip``, ``best_vec_normalize.pkl`` and
         ``best.json`` (mean validation return and step count of the best checkpoint).
+    :param progress_every_s: during an evaluation, print a line with the episodes done at most
+        this often (None: only SB3's line at the end).
     :param resume: continue an earlier run: its ``best.json`` is read, so a later checkpoint must
         beat the earlier best, and the validation history in ``log_path/evaluations.npz`` is
         extended rather than overwritten. A new run (``False``) deletes an earlier run's best
@@ -43,9 +48,12 @@ class ValidationCallback(EvalCallback):
     Other arguments as for ``EvalCallback``.
     """
 
-    def __init__(self, eval_env, validation_seed: int, best_model_save_path: str, resume: bool = False, **kwargs):
+    def __init__(self, eval_env, validation_seed: int, best_model_save_path: str, resume: bool = False,
+                 progress_every_s: float | None = None, **kwargs):
         super().__init__(eval_env, best_model_save_path=best_model_save_path, **kwargs)
         self.validation_seed = int(validation_seed)
+        self.progress_every_s = progress_every_s
+        self._val_t0 = self._val_last = 0.0
         self.best_dir = Path(best_model_save_path)
         info = self.best_dir / BEST_INFO
         if not resume:
@@ -64,6 +72,10 @@ class ValidationCallback(EvalCallback):
         due = self.eval_freq > 0 and self.n_calls % self.eval_freq == 0
         if due:
             self.eval_env.seed(self.validation_seed)
+            if self.verbose >= 1:
+                print(f"validation at {self.num_timesteps:,} steps: {self.n_eval_episodes} episodes on the "
+                      f"validation scenarios (seeds from {self.validation_seed})...", flush=True)
+            self._val_t0 = self._val_last = time.monotonic()
         best_before = self.best_mean_reward
         keep_going = super()._on_step()
         if due and self.best_mean_reward > best_before:
@@ -76,3 +88,78 @@ class ValidationCallback(EvalCallback):
                  "validation_seed": self.validation_seed,
                  "episodes": int(self.n_eval_episodes)}, indent=2))
         return keep_going
+
+    def _log_success_callback(self, locals_, globals_) -> None:
+        super()._log_success_callback(locals_, globals_)
+        if self.progress_every_s is None:
+            return
+        now = time.monotonic()
+        if now - self._val_last >= self.progress_every_s:
+            self._val_last = now
+            done = int(np.sum(locals_["episode_counts"]))
+            print(f"validation: {done}/{self.n_eval_episodes} episodes done (the running ones at step "
+                  f"{int(np.max(locals_['current_lengths']))}), {now - self._val_t0:.0f} s", flush=True)
+
+
+def planned_timesteps(model, total_timesteps: int) -> int:
+    """The step count at which ``model.learn(total_timesteps)`` will stop, counted like
+    ``num_timesteps`` (SB3 stops at the first whole rollout at or past the target: PPO collects
+    ``n_steps`` steps per env per rollout, SAC ``train_freq`` steps per env)."""
+    n_envs = model.n_envs
+    if hasattr(model, "n_steps"):                                  # on-policy (PPO, A2C)
+        chunk = model.n_steps * n_envs
+    else:                                                         # off-policy (SAC, TD3, DQN)
+        freq = getattr(model, "train_freq", None)
+        unit = getattr(getattr(freq, "unit", None), "value", "step")
+        chunk = freq.frequency * n_envs if freq is not None and unit == "step" else n_envs
+    return int(math.ceil(total_timesteps / chunk) * chunk)
+
+
+class ProgressLines(BaseCallback):
+    """Training progress as plain lines (steps, rate, elapsed, time left), at most one every
+    ``every_s`` seconds and one at the end: unlike a progress bar, they read well in a log file.
+
+    :param end: the ``num_timesteps`` at which the training will stop (see :func:`planned_timesteps`).
+    """
+
+    def __init__(self, end: int, every_s: float = 30.0, label: str = "training"):
+        super().__init__()
+        self.end, self.every_s, self.label = int(end), float(every_s), label
+
+    def _on_training_start(self) -> None:
+        self.t0 = self.last = time.monotonic()
+        self.start = int(self.model.num_timesteps)
+
+    def _line(self) -> str:
+        done = int(self.num_timesteps)
+        el = time.monotonic() - self.t0
+        rate = (done - self.start) / el if el > 0 else 0.0
+        text = (f"{self.label}: {done:,}/{self.end:,} steps ({100 * done / max(self.end, 1):.0f} %), "
+                f"{rate:.0f} steps/s, {el / 60:.1f} min")
+        if done < self.end and rate > 0:
+            text += f", about {(self.end - done) / rate / 60:.1f} min left"
+        return text
+
+    def _on_step(self) -> bool:
+        now = time.monotonic()
+        if now - self.last >= self.every_s:
+            self.last = now
+            print(self._line(), flush=True)
+        return True
+
+    def _on_training_end(self) -> None:
+        print(self._line(), flush=True)
+
+
+class ProgressBar(ProgressBarCallback):
+    """SB3's progress bar with the true total (SB3 sizes it to the requested steps, and the run
+    overshoots to the end of its last rollout: 36,352/36,000)."""
+
+    def __init__(self, end: int):
+        super().__init__()
+        self.end = int(end)
+
+    def _on_training_start(self) -> None:
+        from stable_baselines3.common.callbacks import tqdm
+        self.pbar = tqdm(total=self.end - self.model.num_timesteps)
+

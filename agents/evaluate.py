@@ -8,7 +8,8 @@ of the batch is seeded ``seed + i``, so every policy meets the same scenarios), 
 ``DIR/evaluation.md``, ``DIR/evaluation.csv``, ``DIR/evaluation_episodes.csv`` (every episode's
 return per policy) and ``DIR/evaluation_traces.png``. Per policy: mean return with a 95 % confidence interval
 (Student t over episodes), the mean of each reward term, the fraction of control intervals spent
-quasi-periodic (index > 0.3) and the mean preload.
+quasi-periodic (index > 0.3), the mean preload and the number of episodes that terminated early
+(the integrator diverged: the episode ends there, its return holds the termination penalty).
 """
 
 from __future__ import annotations
@@ -17,6 +18,7 @@ import argparse
 import csv
 import json
 import math
+import time
 from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
@@ -42,6 +44,13 @@ class EvalResult:
     qp_fraction: np.ndarray
     mean_preload: np.ndarray
     trace: dict[str, np.ndarray] = field(default_factory=dict)
+    terminated: np.ndarray | None = None    # per episode: ended early (None: none did)
+    scenario: Any = None                    # the first episode's Scenario (the one traced)
+    trace_label: str = ""                   # what the trace is, if not the policy itself
+
+    @property
+    def terminated_count(self) -> int:
+        return 0 if self.terminated is None else int(np.count_nonzero(self.terminated))
 
     @property
     def episodes(self) -> int:
@@ -64,6 +73,7 @@ class EvalResult:
             r[f"mean_{k}"] = float(np.mean(self.terms[k]))
         r["quasi_periodic_fraction"] = float(np.mean(self.qp_fraction))
         r["mean_preload_n"] = float(np.mean(self.mean_preload))
+        r["terminated_episodes"] = self.terminated_count
         return r
 
 
@@ -103,10 +113,39 @@ def load_trained(model_dir: str | Path) -> SB3Policy:
     return SB3Policy(model, obs_rms, name=f"{cfg['algo'].upper()} (trained{detail})")
 
 
+class _Progress:
+    """Plain progress lines (they read the same in a terminal and in a log file): the first at
+    once, then at most one per ``every_s`` seconds, and the last when done."""
+
+    def __init__(self, label: str | None, total: int, every_s: float = 30.0):
+        self.label, self.total, self.every_s = label, total, every_s
+        self.t0 = self.last = time.monotonic()
+        if label:
+            print(f"{label}: step 0/{total}", flush=True)
+        if label and ":" in label:        # "name: what it runs" -> later lines say only "name"
+            self.label = label.split(":")[0]
+
+    def update(self, done: int) -> None:
+        now = time.monotonic()
+        if not self.label or (done < self.total and now - self.last < self.every_s):
+            return
+        self.last = now
+        el = now - self.t0
+        eta = "" if done >= self.total else f", about {el / max(done, 1) * (self.total - done) / 60:.1f} min left"
+        print(f"{self.label}: step {done}/{self.total} ({100 * done / self.total:.0f} %), "
+              f"{el / 60:.1f} min{eta}", flush=True)
+
+
 def run_policies(policies: list[Policy], episodes: int, seed: int, episode_steps: int,
-                 env_kwargs: dict | None = None, num_threads: int | None = None) -> list[EvalResult]:
+                 env_kwargs: dict | None = None, num_threads: int | None = None,
+                 progress: str | None = None, progress_every_s: float = 30.0) -> list[EvalResult]:
     """Run every policy on ``episodes`` scenarios (seeds seed .. seed+episodes-1), all in one
-    batched env (policies x episodes environments)."""
+    batched env (policies x episodes environments).
+
+    An episode that terminates early (the integrator diverged) ends there: its return, reward
+    terms, quasi-periodic fraction and mean preload cover the steps it ran, and
+    ``EvalResult.terminated`` marks it. With ``progress`` (a label), a line ``label: step k/N``
+    is printed at the start, at most every ``progress_every_s`` seconds, and at the end."""
     n_pol = len(policies)
     n = n_pol * episodes
     venv = BearingPreloadVectorEnv(num_envs=n, max_episode_steps=None, episode_steps=episode_steps,
@@ -114,6 +153,7 @@ def run_policies(policies: list[Policy], episodes: int, seed: int, episode_steps
     seeds = [seed + (i % episodes) for i in range(n)]
     obs, _ = venv.reset(seed=seeds)
     alive = np.ones(n, dtype=bool)
+    terminated = np.zeros(n, dtype=bool)
     ret = np.zeros(n)
     terms = {k: np.zeros(n) for k in REWARD_TERMS}
     qp = np.zeros(n)
@@ -121,9 +161,12 @@ def run_policies(policies: list[Policy], episodes: int, seed: int, episode_steps
     steps = np.zeros(n)
     states: list[Any] = [None] * n_pol
     starts = np.ones(episodes, dtype=bool)
-    traces = [{"t": [], "preload_n": [], "setpoint_n": [], "qpi": [], "ptp_x_um": []} for _ in range(n_pol)]
+    keys = ("t", "preload_n", "setpoint_n", "qpi", "shaft_speed_rpm", "radial_load_n")
+    traces = [{k: [] for k in keys + ("ptp_x_um",)} for _ in range(n_pol)]
     batch = venv._batch
-    for _ in range(episode_steps):
+    first_scenarios = [batch.scenarios[p * episodes] for p in range(n_pol)]
+    report = _Progress(progress, episode_steps, progress_every_s)
+    for k in range(episode_steps):
         actions = np.zeros((n, 1), dtype=np.float32)
         for p, pol in enumerate(policies):
             sl = slice(p * episodes, (p + 1) * episodes)
@@ -135,27 +178,35 @@ def run_policies(policies: list[Policy], episodes: int, seed: int, episode_steps
             actions[sl] = np.asarray(act, dtype=np.float32).reshape(episodes, 1)
         starts = np.zeros(episodes, dtype=bool)
         obs, rew, term, trunc, info = venv.step(actions)
+        # every env still alive was stepped (only ended ones are autoreset), so its info is there
         ret[alive] += rew[alive]
-        for k in REWARD_TERMS:
-            terms[k][alive] += info[f"reward_{k}"][alive]
+        for key in REWARD_TERMS:
+            terms[key][alive] += info[f"reward_{key}"][alive]
         qp[alive] += info["qpi"][alive] > QP_THRESHOLD
         preload_sum[alive] += info["preload_n"][alive]
         steps[alive] += 1
         for p in range(n_pol):
             b = p * episodes
+            if not alive[b]:          # the traced episode has ended: what follows is a new one
+                continue
             tr = traces[p]
-            tr["t"].append(info["t"][b])
-            tr["preload_n"].append(info["preload_n"][b])
-            tr["setpoint_n"].append(info["setpoint_n"][b])
-            tr["qpi"].append(info["qpi"][b])
+            for key in keys:
+                tr[key].append(info[key][b])
             tr["ptp_x_um"].append(obs[b, 0] * 100.0)
+        terminated |= alive & term
         alive &= ~term
+        report.update(k + 1)
+        if not alive.any():           # all ended early; the next step would only autoreset them
+            if progress:
+                print(f"{report.label}: every episode ended early, by step {k + 1}/{episode_steps}", flush=True)
+            break
     out = []
     for p, pol in enumerate(policies):
         sl = slice(p * episodes, (p + 1) * episodes)
         out.append(EvalResult(pol.name, ret[sl].copy(), {k: v[sl].copy() for k, v in terms.items()},
                               qp[sl] / np.maximum(steps[sl], 1), preload_sum[sl] / np.maximum(steps[sl], 1),
-                              {k: np.array(v) for k, v in traces[p].items()}))
+                              {k: np.array(v) for k, v in traces[p].items()},
+                              terminated=terminated[sl].copy(), scenario=first_scenarios[p]))
     return out
 
 
@@ -176,9 +227,13 @@ def hindsight_constant(sweep: list[EvalResult]) -> EvalResult:
     def chosen(values: list[np.ndarray]) -> np.ndarray:
         return np.array(values)[pick, cols]
 
+    first = sweep[int(pick[0])]     # the trace is the first scenario's: its chosen constant
+    terminated = chosen([np.zeros(len(r.returns), bool) if r.terminated is None else r.terminated for r in sweep])
     return EvalResult("best constant per scenario (hindsight)", returns[pick, cols],
                       {k: chosen([r.terms[k] for r in sweep]) for k in REWARD_TERMS},
-                      chosen([r.qp_fraction for r in sweep]), chosen([r.mean_preload for r in sweep]))
+                      chosen([r.qp_fraction for r in sweep]), chosen([r.mean_preload for r in sweep]),
+                      trace=first.trace, terminated=terminated, scenario=first.scenario,
+                      trace_label=f"hindsight: {first.name}")
 
 
 def baselines(table: StabilityTable | None) -> list[Policy]:
@@ -218,12 +273,16 @@ def write_report(results: list[EvalResult], out_dir: Path, header: str = "",
         for i in range(min(len(r.returns) for r in results)):
             w.writerow([i, "" if first_seed is None else first_seed + i] + [repr(float(r.returns[i])) for r in results])
     lines = [f"# Evaluation\n", header, "",
-             "| policy | episodes | mean return | 95 % CI | vibration | heat | fatigue | preload change | time quasi-periodic | mean preload (N) |",
-             "|---|---|---|---|---|---|---|---|---|---|"]
+             "| policy | episodes | mean return | 95 % CI | vibration | heat | fatigue | preload change "
+             "| time quasi-periodic | mean preload (N) | terminated early |",
+             "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         lines.append(f"| {r['policy']} | {r['episodes']} | {r['mean_return']:.2f} | [{r['ci95_low']:.2f}, {r['ci95_high']:.2f}] "
                      f"| {r['mean_vibration']:.2f} | {r['mean_heat']:.2f} | {r['mean_fatigue']:.2f} | {r['mean_preload_change']:.2f} "
-                     f"| {100 * r['quasi_periodic_fraction']:.1f} % | {r['mean_preload_n']:.0f} |")
+                     f"| {100 * r['quasi_periodic_fraction']:.1f} % | {r['mean_preload_n']:.0f} | {r['terminated_episodes']} |")
+    if any(r["terminated_episodes"] for r in rows):
+        lines += ["", "Terminated early: episodes in which the integrator diverged; such an episode ends "
+                      "there and its return holds the termination penalty."]
     ref = next((r for r in results if r.name == reference), None)
     if ref is not None:
         lines += ["", f"Paired difference of return to **{ref.name}** on the same scenarios "
@@ -234,34 +293,81 @@ def write_report(results: list[EvalResult], out_dir: Path, header: str = "",
                 lines.append(f"- {r.name}: {m:+.2f} [{lo:+.2f}, {hi:+.2f}]")
     (out_dir / "evaluation.md").write_text("\n".join(lines) + "\n")
     try:
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        fig, (a1, a2) = plt.subplots(2, 1, figsize=(8, 6), sharex=True)
-        for r in (r for r in results if r.trace):
-            a1.plot(r.trace["t"], r.trace["preload_n"], label=r.name)
-            a2.plot(r.trace["t"], r.trace["qpi"], label=r.name)
-        a1.set_ylabel("preload (N)")
-        a2.set_ylabel("quasi-periodicity index")
-        a2.set_xlabel("t (s)")
-        a1.legend(fontsize=7)
-        a1.set_title("first evaluation scenario")
-        fig.tight_layout()
-        fig.savefig(out_dir / "evaluation_traces.png", dpi=90)
-        plt.close(fig)
+        plot_traces(results, out_dir / "evaluation_traces.png", first_seed)
     except Exception as err:  # a figure must never lose the numbers
         print(f"warning: no trace figure ({err})")
 
 
+def describe_scenario(sc) -> str:
+    """One line for a Scenario: speed (ramp), radial load (step), clearance."""
+    if sc is None:
+        return ""
+    speed = (f"{sc.speed_start_rpm:,.0f} rpm" if sc.speed_start_rpm == sc.speed_end_rpm else
+             f"{sc.speed_start_rpm:,.0f} -> {sc.speed_end_rpm:,.0f} rpm ({sc.ramp_start_s:.2f}-{sc.ramp_end_s:.2f} s)")
+    if sc.radial_load_before_n == sc.radial_load_after_n:
+        load = f"radial load {sc.radial_load_after_n:.0f} N"
+    else:
+        load = f"radial load {sc.radial_load_before_n:.0f} -> {sc.radial_load_after_n:.0f} N at {sc.radial_step_time_s:.2f} s"
+    return f"{speed}, {load}, clearance {sc.clearance_m * 1e6:.1f} um"
+
+
+def plot_traces(results: list[EvalResult], path: Path | None, first_seed: int | None = None):
+    """evaluation_traces.png: preload, quasi-periodicity index and operating point over the
+    first evaluation scenario, for every policy with a trace (the hindsight reference included).
+    With ``path`` None the figure is returned instead of saved (the caller closes it)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    traced = [r for r in results if r.trace and len(r.trace.get("t", ()))]
+    fig, (a1, a2, a3) = plt.subplots(3, 1, figsize=(8, 8), sharex=True,
+                                     gridspec_kw={"height_ratios": [3, 2, 1.4]})
+    for r in traced:
+        hindsight = bool(r.trace_label)
+        style = dict(color="k", ls="--", lw=1.2) if hindsight else {}
+        label = r.trace_label or r.name
+        a1.plot(r.trace["t"], r.trace["preload_n"], label=label, **style)
+        a2.plot(r.trace["t"], r.trace["qpi"], label=label, **style)
+        if r.terminated is not None and r.terminated[0]:
+            a1.plot(r.trace["t"][-1], r.trace["preload_n"][-1], "x", color="r", ms=8)
+    a2.axhline(QP_THRESHOLD, color="0.5", lw=0.8, ls=":")
+    a2.text(0.0, QP_THRESHOLD, f" quasi-periodic above {QP_THRESHOLD}", fontsize=7, color="0.4", va="bottom")
+    a1.set_ylabel("axial preload (N)")
+    a2.set_ylabel("quasi-periodicity index (-)")
+    a1.legend(fontsize=7)
+    ref = max(traced, key=lambda r: len(r.trace["t"])) if traced else None
+    if ref is not None and "shaft_speed_rpm" in ref.trace:
+        a3.plot(ref.trace["t"], ref.trace["shaft_speed_rpm"], color="C0")
+        a3.set_ylabel("shaft speed (rpm)", color="C0")
+        b3 = a3.twinx()
+        b3.plot(ref.trace["t"], ref.trace["radial_load_n"], color="C3")
+        b3.set_ylabel("radial load (N)", color="C3")
+    a3.set_xlabel("time in episode (s)")
+    seed = "" if first_seed is None else f"seed {first_seed}: "
+    sc = describe_scenario(ref.scenario) if ref is not None else ""
+    ended = any(r.terminated is not None and r.terminated[0] for r in traced)
+    a1.set_title(f"First evaluation scenario ({seed}{sc})\npreload and quasi-periodicity index per policy"
+                 + (" (x: the episode terminated early)" if ended else ""), fontsize=9)
+    fig.tight_layout()
+    if path is None:
+        return fig
+    fig.savefig(path, dpi=90)
+    plt.close(fig)
+    return None
+
+
 def evaluate(model_dir: str | Path | list[str | Path] | None, episodes: int = 20, seed: int = TEST_SEED,
              episode_steps: int = 100, out_dir: str | Path | None = None,
-             table_path: str | Path | None = None, verbose: bool = True) -> list[EvalResult]:
+             table_path: str | Path | None = None, verbose: bool = True,
+             progress_every_s: float = 30.0) -> list[EvalResult]:
+    """Every policy (the trained ones in ``model_dir``, the scripted baselines, the constant
+    preloads) on the same held-out scenarios; writes the report files to ``out_dir`` (default:
+    the first model directory, else ``evaluation/``). With ``verbose``, progress lines (at most
+    one per ``progress_every_s`` seconds per phase) and the table are printed."""
     try:
         table = StabilityTable.load(table_path) if table_path else StabilityTable.load()
     except FileNotFoundError as err:
         print(f"warning: {err}; speed-schedule and oracle baselines skipped")
         table = None
-    best_n, sweep = best_constant_preload(episodes, seed, episode_steps)
     if model_dir is None:
         model_dirs = []
     elif isinstance(model_dir, (str, Path)):
@@ -270,7 +376,12 @@ def evaluate(model_dir: str | Path | list[str | Path] | None, episodes: int = 20
         model_dirs = list(model_dir)
     policies: list[Policy] = [load_trained(d) for d in model_dirs]
     policies += baselines(table)
-    results = run_policies(policies, episodes, seed, episode_steps)
+    shape = f"{episodes} held-out episodes of {episode_steps} steps, stepped together"
+    best_n, sweep = best_constant_preload(
+        episodes, seed, episode_steps, progress_every_s=progress_every_s,
+        progress=f"evaluation 1/2: {len(CONSTANT_CANDIDATES_N)} constant preloads x {shape}" if verbose else None)
+    results = run_policies(policies, episodes, seed, episode_steps, progress_every_s=progress_every_s,
+                           progress=f"evaluation 2/2: {len(policies)} policies x {shape}" if verbose else None)
     # the best constant's row is its sweep run (same scenarios, deterministic): no second run
     best_row = next(r for r in sweep if r.name == ConstantPreload(best_n).name)
     results = results[:len(model_dirs)] + [best_row] + results[len(model_dirs):] + [hindsight_constant(sweep)]

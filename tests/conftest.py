@@ -1,8 +1,9 @@
+# The tests use the same numba cache as the library, train.py and the CLI: $NUMBA_CACHE_DIR if
+# set, else ~/.cache/bearing_gym/numba (bearing_gym._numba_cache), so the README's two commands
+# compile the kernels once. .ci/run sets NUMBA_CACHE_DIR to .numba-cache/ in the checkout.
 import os
 
 import pytest
-
-os.environ.setdefault("NUMBA_CACHE_DIR", os.path.join(os.path.dirname(__file__), "..", ".numba-cache"))
 
 SLOW = bool(os.environ.get("BEARING_GYM_SLOW"))
 

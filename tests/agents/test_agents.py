@@ -93,6 +93,18 @@ def test_smoke_training_saves_reloads_and_evaluates(algo, tmp_path, capsys):
         assert (out / name).exists(), name
     cfg = json.loads((out / "config.json").read_text())
     assert cfg["num_timesteps"] >= 128
+    # it says what it does, in plain lines: kernels, training progress up to the step count the
+    # run really reaches (no 36,352/36,000), validations, evaluation progress, where the outputs are
+    printed = capsys.readouterr().out
+    assert "numba kernels: ready" in printed and "validation at 64 steps" in printed
+    n = cfg["num_timesteps"]
+    assert f"training: 0 -> {n:,} steps" in printed and f"training: {n:,}/{n:,} steps (100 %)" in printed
+    assert "evaluation 1/2: step 16/16 (100 %)" in printed and "evaluation 2/2: step 16/16 (100 %)" in printed
+    announced = printed.split("outputs in")[1].splitlines()[1:]
+    for what, name in (("model", "model.zip"), ("evaluation table", "evaluation.md"),
+                       ("trace figure", "evaluation_traces.png"), ("tensorboard logs", "tensorboard")):
+        line = next(x for x in announced if x.strip().startswith(what))
+        assert str(out / name) in line and (out / name).exists(), line
     # model.zip is the best validation checkpoint, with the statistics saved with it
     best = json.loads((out / "eval" / "best.json").read_text())
     assert cfg["selected"] == "best validation checkpoint" and cfg["selected_timesteps"] == best["num_timesteps"]
@@ -163,7 +175,7 @@ def test_smoke_training_saves_reloads_and_evaluates(algo, tmp_path, capsys):
     assert (out / "model.zip").read_bytes() == (out / "last_model.zip").read_bytes()
 
 
-def test_validation_scores_every_checkpoint_on_the_same_scenarios(tmp_path):
+def test_validation_scores_every_checkpoint_on_the_same_scenarios(tmp_path, capsys):
     """The same policy evaluated twice by ValidationCallback gets the same returns (fixed
     validation scenarios); SB3's plain EvalCallback draws new scenarios each time."""
     sys.path.insert(0, str(ROOT))
@@ -184,8 +196,14 @@ def test_validation_scores_every_checkpoint_on_the_same_scenarios(tmp_path):
         cb.on_step()
         cb.on_step()
         return np.array(cb.evaluations_results)
-    fixed = two_evaluations(ValidationCallback, tmp_path / "fixed", validation_seed=50000)
+    fixed = two_evaluations(ValidationCallback, tmp_path / "fixed", validation_seed=50000, progress_every_s=0.0)
     np.testing.assert_array_equal(fixed[0], fixed[1])
+    # each evaluation is announced, then says how far it is (here at every step: 2 envs x 6 steps)
+    blocks = capsys.readouterr().out.split("validation at ")[1:]
+    assert len(blocks) == 2
+    for block in blocks:
+        done = [int(line.split()[1].split("/")[0]) for line in block.splitlines() if line.startswith("validation: ")]
+        assert len(done) >= 6 and done == sorted(done) and done[0] == 0 and done[-1] >= 1
     assert (tmp_path / "fixed" / "best_vec_normalize.pkl").exists()
     drawn = two_evaluations(EvalCallback, tmp_path / "drawn")
     assert not np.array_equal(np.sort(drawn[0]), np.sort(drawn[1]))
@@ -229,3 +247,62 @@ def test_episode_results_do_not_depend_on_the_batch_they_run_in():
                          episodes=2, seed=100000, episode_steps=3)[2]
     np.testing.assert_array_equal(alone.returns, mixed.returns)
     np.testing.assert_array_equal(alone.trace["qpi"], mixed.trace["qpi"])
+
+
+def _diverging(limit_m):
+    # a tight divergence limit makes the integrator "diverge" (terminate the episode) on purpose
+    from bearing_gym import default_params
+    return {"scenario": "paper", "params": default_params(divergence_limit_m=limit_m)}
+
+
+def test_evaluation_reports_episodes_that_all_terminate_in_the_same_step(tmp_path):
+    from agents.evaluate import write_report
+    from bearing_gym.envs.reward import RewardModel
+    # every env of the batch ends in the same step: the next venv.step would only autoreset them
+    res = run_policies([ConstantPreload(300.0)], episodes=2, seed=0, episode_steps=25,
+                       env_kwargs=_diverging(2e-5))[0]
+    assert res.terminated.all() and res.terminated_count == 2
+    assert np.all(np.isfinite(res.returns))
+    assert np.all(res.returns <= -RewardModel().termination_penalty)   # the penalty is in the return
+    # the trace stops where the episode ended, it does not run on into the autoreset episode
+    assert 1 <= len(res.trace["t"]) < 25 and np.all(np.diff(res.trace["t"]) > 0)
+    write_report([res], tmp_path, first_seed=0)
+    with (tmp_path / "evaluation.csv").open() as fh:
+        assert int(next(csv.DictReader(fh))["terminated_episodes"]) == 2
+    text = (tmp_path / "evaluation.md").read_text()
+    row = next(line for line in text.splitlines() if line.startswith(f"| {res.name} |"))
+    assert "terminated early" in text and row.endswith("| 2 |")
+    assert (tmp_path / "evaluation_traces.png").stat().st_size > 0
+
+
+def test_terminated_episodes_do_not_disturb_the_others_in_the_batch():
+    # at this limit the low preload diverges within a few steps, the high one does not
+    kw = _diverging(1e-4)
+    low, high = run_policies([ConstantPreload(300.0), ConstantPreload(2000.0)], episodes=2, seed=0,
+                             episode_steps=30, env_kwargs=kw)
+    alone = run_policies([ConstantPreload(2000.0)], episodes=2, seed=0, episode_steps=30, env_kwargs=kw)[0]
+    assert low.terminated.all() and not high.terminated.any()
+    assert len(low.trace["t"]) < 30 and len(high.trace["t"]) == 30
+    np.testing.assert_array_equal(high.returns, alone.returns)
+    np.testing.assert_array_equal(high.trace["qpi"], alone.trace["qpi"])
+    assert low.row()["terminated_episodes"] == 2 and high.row()["terminated_episodes"] == 0
+
+
+def test_trace_figure_names_its_scenario_shows_the_hindsight_reference_and_labels_every_axis():
+    from agents.evaluate import hindsight_constant, plot_traces
+    sweep = run_policies([ConstantPreload(800.0), ConstantPreload(1400.0)], episodes=2, seed=100000, episode_steps=4)
+    h = hindsight_constant(sweep)
+    chosen = sweep[int(np.argmax([r.returns[0] for r in sweep]))]
+    # the hindsight trace is the first scenario's chosen constant
+    assert h.trace is chosen.trace and chosen.name in h.trace_label
+    fig = plot_traces([sweep[0], h], None, first_seed=100000)
+    try:
+        title = fig.axes[0].get_title()
+        assert "seed 100000" in title and "rpm" in title and "radial load" in title and "clearance" in title
+        assert any(line.get_label() == h.trace_label for line in fig.axes[0].get_lines())
+        for ax in fig.axes:
+            assert ax.get_ylabel().endswith(")"), ax.get_ylabel()       # every axis has its unit
+        assert fig.axes[2].get_xlabel() == "time in episode (s)"
+    finally:
+        import matplotlib.pyplot as plt
+        plt.close(fig)
