@@ -31,6 +31,9 @@ import sys
 import time
 from pathlib import Path
 
+from agents.protocol import TEST, VALIDATION
+from bearing_gym.benchmark import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
+
 PROGRESS_EVERY_S = 30.0     # at most one progress line per this many seconds
 
 
@@ -42,11 +45,17 @@ def build_parser() -> argparse.ArgumentParser:
     ap.add_argument("--n-envs", type=int, default=2, help="environments stepped together by the batched kernel")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--out", default="runs/ppo", help="output directory")
-    ap.add_argument("--episode-steps", type=int, default=100, help="control intervals per training episode")
+    ap.add_argument("--tier", choices=TIER_NAMES, default=DEFAULT_TIER,
+                    help="difficulty tier of BearingPreload-v0 (default: the main benchmark, %(default)s)")
+    ap.add_argument("--episode-steps", type=int, default=EPISODE_STEPS,
+                    help="control intervals per episode (default %(default)d, the benchmark's horizon; "
+                         "another value is announced as not the benchmark)")
     ap.add_argument("--eval-episodes", type=int, default=20, help="held-out episodes per policy at the end (0: skip)")
     ap.add_argument("--eval-freq", type=int, default=12000, help="validation period in environment steps")
     ap.add_argument("--val-episodes", type=int, default=20, help="validation episodes per evaluation (same scenarios each time)")
-    ap.add_argument("--val-seed", type=int, default=50000, help="seed of the validation scenarios (test seeds start at 100000)")
+    ap.add_argument("--val-seed", type=int, default=VALIDATION.start,
+                    help=f"seed of the validation scenarios (agents.protocol: validation {VALIDATION.start}.., "
+                         f"test {TEST.start}..)")
     ap.add_argument("--select", choices=("best", "last"), default="best",
                     help="model.zip = the best validation checkpoint or the final weights")
     ap.add_argument("--checkpoint-freq", type=int, default=6000, help="checkpoint period in environment steps")
@@ -66,11 +75,11 @@ def hyperparams(algo: str) -> dict:
     return out
 
 
-def make_env(n_envs: int, seed: int, episode_steps: int):
+def make_env(n_envs: int, seed: int, episode_steps: int, tier: str):
     from stable_baselines3.common.vec_env import VecMonitor
 
     from bearing_gym.envs import BearingPreloadSB3VecEnv
-    venv = BearingPreloadSB3VecEnv(num_envs=n_envs, episode_steps=episode_steps,
+    venv = BearingPreloadSB3VecEnv(num_envs=n_envs, tier=tier, episode_steps=episode_steps,
                                    max_episode_steps=episode_steps, num_threads=min(n_envs, os.cpu_count() or 1))
     venv.seed(seed)
     return VecMonitor(venv)
@@ -138,13 +147,17 @@ def main(argv: list[str] | None = None) -> int:
     algo_cls = {"ppo": PPO, "sac": SAC}[args.algo]
     off_policy = args.algo == "sac"   # its replay buffer is checkpointed too, so --resume continues it
     t0 = time.time()
-    print(f"train.py: {args.algo.upper()} on BearingPreload-v0, {args.timesteps:,} steps on {args.n_envs} "
+    if args.tier != DEFAULT_TIER or args.episode_steps != EPISODE_STEPS:
+        print(f"note: tier {args.tier}, {args.episode_steps}-step episodes: not the benchmark's definition "
+              f"(tier {DEFAULT_TIER}, {EPISODE_STEPS} steps), results are not comparable with the leaderboard",
+              flush=True)
+    print(f"train.py: {args.algo.upper()} on BearingPreload-v0 (tier {args.tier}), {args.timesteps:,} steps on {args.n_envs} "
           f"envs (seed {args.seed}), then {args.eval_episodes} held-out evaluation episodes; output in {out}/",
           flush=True)
     warm_up_kernels(args.n_envs)
 
-    env = make_env(args.n_envs, args.seed, args.episode_steps)
-    eval_env = make_env(n_val_envs, args.val_seed, args.episode_steps)
+    env = make_env(args.n_envs, args.seed, args.episode_steps, args.tier)
+    eval_env = make_env(n_val_envs, args.val_seed, args.episode_steps, args.tier)
     ckpt_dir = out / "checkpoints"
     latest = sorted(ckpt_dir.glob("model_*_steps.zip"), key=lambda p: int(p.stem.split("_")[-2])) if ckpt_dir.exists() else []
     if args.resume and latest:
@@ -226,7 +239,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"evaluating {out / 'model.zip'} and the scripted baselines on {args.eval_episodes} held-out "
               f"scenarios (seeds {TEST_SEED}..{TEST_SEED + args.eval_episodes - 1})", flush=True)
         evaluate(out, episodes=args.eval_episodes, seed=TEST_SEED, episode_steps=args.episode_steps,
-                 progress_every_s=PROGRESS_EVERY_S)
+                 tier=args.tier, progress_every_s=PROGRESS_EVERY_S)
         cfg["total_wall_s"] = time.time() - t0
         (out / "config.json").write_text(json.dumps(cfg, indent=2))
     announce_outputs(out, args.eval_episodes > 0, tb_dir)

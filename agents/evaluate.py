@@ -1,6 +1,6 @@
 """Evaluate preload controllers side by side on the same held-out scenarios.
 
-    python -m agents.evaluate --model DIR [DIR ...] [--episodes 20] [--episode-steps 100] [--seed 100000]
+    python -m agents.evaluate --model DIR [DIR ...] [--episodes 20] [--tier transient] [--seed 300000]
 
 Runs the trained policy in each DIR (``model.zip`` + ``vec_normalize.pkl`` from ``train.py``;
 several DIRs put PPO and SAC side by side) and every scripted baseline on the same seeds (env i
@@ -8,7 +8,7 @@ of the batch is seeded ``seed + i``, so every policy meets the same scenarios), 
 ``DIR/evaluation.md``, ``DIR/evaluation.csv``, ``DIR/evaluation_episodes.csv`` (every episode's
 return per policy) and ``DIR/evaluation_traces.png``. Per policy: mean return with a 95 % confidence interval
 (Student t over episodes), the mean of each reward term, the fraction of control intervals spent
-quasi-periodic (index > 0.3), the mean preload and the number of episodes that terminated early
+quasi-periodic (index > QPI_THRESHOLD = 0.1), the mean preload and the number of episodes that terminated early
 (the integrator diverged: the episode ends there, its return holds the termination penalty).
 """
 
@@ -26,13 +26,15 @@ from typing import Any
 import numpy as np
 
 from bearing_gym.envs import BearingPreloadVectorEnv
+from bearing_gym.analysis.signals import QPI_THRESHOLD
 from bearing_gym.envs.reward import REWARD_TERMS
+from bearing_gym.benchmark import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
 
 from .policies import ConstantPreload, FeedbackRule, OraclePreload, Policy, SpeedScheduledPreload
+from .protocol import TEST
 from .stability_table import StabilityTable
 
-QP_THRESHOLD = 0.3
-TEST_SEED = 100000          # first held-out test seed (train.py keeps its validation seeds apart)
+TEST_SEED = TEST.start      # first held-out test seed (agents.protocol keeps the ranges apart)
 CONSTANT_CANDIDATES_N = (600.0, 800.0, 1000.0, 1200.0, 1400.0, 1600.0, 1800.0, 2000.0)
 
 
@@ -182,7 +184,7 @@ def run_policies(policies: list[Policy], episodes: int, seed: int, episode_steps
         ret[alive] += rew[alive]
         for key in REWARD_TERMS:
             terms[key][alive] += info[f"reward_{key}"][alive]
-        qp[alive] += info["qpi"][alive] > QP_THRESHOLD
+        qp[alive] += info["quasi_periodic"][alive]
         preload_sum[alive] += info["preload_n"][alive]
         steps[alive] += 1
         for p in range(n_pol):
@@ -273,12 +275,12 @@ def write_report(results: list[EvalResult], out_dir: Path, header: str = "",
         for i in range(min(len(r.returns) for r in results)):
             w.writerow([i, "" if first_seed is None else first_seed + i] + [repr(float(r.returns[i])) for r in results])
     lines = [f"# Evaluation\n", header, "",
-             "| policy | episodes | mean return | 95 % CI | vibration | heat | fatigue | preload change "
+             "| policy | episodes | mean return | 95 % CI | vibration | heat | fatigue | actuation "
              "| time quasi-periodic | mean preload (N) | terminated early |",
              "|---|---|---|---|---|---|---|---|---|---|---|"]
     for r in rows:
         lines.append(f"| {r['policy']} | {r['episodes']} | {r['mean_return']:.2f} | [{r['ci95_low']:.2f}, {r['ci95_high']:.2f}] "
-                     f"| {r['mean_vibration']:.2f} | {r['mean_heat']:.2f} | {r['mean_fatigue']:.2f} | {r['mean_preload_change']:.2f} "
+                     f"| {r['mean_vibration']:.2f} | {r['mean_heat']:.2f} | {r['mean_fatigue']:.2f} | {r['mean_actuation']:.2f} "
                      f"| {100 * r['quasi_periodic_fraction']:.1f} % | {r['mean_preload_n']:.0f} | {r['terminated_episodes']} |")
     if any(r["terminated_episodes"] for r in rows):
         lines += ["", "Terminated early: episodes in which the integrator diverged; such an episode ends "
@@ -302,12 +304,13 @@ def describe_scenario(sc) -> str:
     """One line for a Scenario: speed (ramp), radial load (step), clearance."""
     if sc is None:
         return ""
-    speed = (f"{sc.speed_start_rpm:,.0f} rpm" if sc.speed_start_rpm == sc.speed_end_rpm else
-             f"{sc.speed_start_rpm:,.0f} -> {sc.speed_end_rpm:,.0f} rpm ({sc.ramp_start_s:.2f}-{sc.ramp_end_s:.2f} s)")
-    if sc.radial_load_before_n == sc.radial_load_after_n:
-        load = f"radial load {sc.radial_load_after_n:.0f} N"
-    else:
-        load = f"radial load {sc.radial_load_before_n:.0f} -> {sc.radial_load_after_n:.0f} N at {sc.radial_step_time_s:.2f} s"
+    sp = sc.speed_profile
+    levels = [f"{v:,.0f}" for k, (_, v) in enumerate(sp) if k == 0 or v != sp[k - 1][1]]
+    speed = " -> ".join(levels) + " rpm"
+    load = "radial load " + " -> ".join(f"{f:.0f}" for _, f in sc.radial_load_profile) + " N"
+    if len(sp) > 1 or len(sc.radial_load_profile) > 1:
+        times = sorted({t for t, _ in sp[1::2]} | {t for t, _ in sc.radial_load_profile[1:]})
+        load += " (events at " + ", ".join(f"{t:.2f}" for t in times) + " s)"
     return f"{speed}, {load}, clearance {sc.clearance_m * 1e6:.1f} um"
 
 
@@ -329,8 +332,8 @@ def plot_traces(results: list[EvalResult], path: Path | None, first_seed: int | 
         a2.plot(r.trace["t"], r.trace["qpi"], label=label, **style)
         if r.terminated is not None and r.terminated[0]:
             a1.plot(r.trace["t"][-1], r.trace["preload_n"][-1], "x", color="r", ms=8)
-    a2.axhline(QP_THRESHOLD, color="0.5", lw=0.8, ls=":")
-    a2.text(0.0, QP_THRESHOLD, f" quasi-periodic above {QP_THRESHOLD}", fontsize=7, color="0.4", va="bottom")
+    a2.axhline(QPI_THRESHOLD, color="0.5", lw=0.8, ls=":")
+    a2.text(0.0, QPI_THRESHOLD, f" quasi-periodic above {QPI_THRESHOLD}", fontsize=7, color="0.4", va="bottom")
     a1.set_ylabel("axial preload (N)")
     a2.set_ylabel("quasi-periodicity index (-)")
     a1.legend(fontsize=7)
@@ -356,9 +359,9 @@ def plot_traces(results: list[EvalResult], path: Path | None, first_seed: int | 
 
 
 def evaluate(model_dir: str | Path | list[str | Path] | None, episodes: int = 20, seed: int = TEST_SEED,
-             episode_steps: int = 100, out_dir: str | Path | None = None,
+             episode_steps: int = EPISODE_STEPS, out_dir: str | Path | None = None,
              table_path: str | Path | None = None, verbose: bool = True,
-             progress_every_s: float = 30.0) -> list[EvalResult]:
+             progress_every_s: float = 30.0, tier: str = DEFAULT_TIER) -> list[EvalResult]:
     """Every policy (the trained ones in ``model_dir``, the scripted baselines, the constant
     preloads) on the same held-out scenarios; writes the report files to ``out_dir`` (default:
     the first model directory, else ``evaluation/``). With ``verbose``, progress lines (at most
@@ -377,17 +380,18 @@ def evaluate(model_dir: str | Path | list[str | Path] | None, episodes: int = 20
     policies: list[Policy] = [load_trained(d) for d in model_dirs]
     policies += baselines(table)
     shape = f"{episodes} held-out episodes of {episode_steps} steps, stepped together"
+    kw = {"env_kwargs": {"tier": tier}, "progress_every_s": progress_every_s}
     best_n, sweep = best_constant_preload(
-        episodes, seed, episode_steps, progress_every_s=progress_every_s,
+        episodes, seed, episode_steps, **kw,
         progress=f"evaluation 1/2: {len(CONSTANT_CANDIDATES_N)} constant preloads x {shape}" if verbose else None)
-    results = run_policies(policies, episodes, seed, episode_steps, progress_every_s=progress_every_s,
+    results = run_policies(policies, episodes, seed, episode_steps, **kw,
                            progress=f"evaluation 2/2: {len(policies)} policies x {shape}" if verbose else None)
     # the best constant's row is its sweep run (same scenarios, deterministic): no second run
     best_row = next(r for r in sweep if r.name == ConstantPreload(best_n).name)
     results = results[:len(model_dirs)] + [best_row] + results[len(model_dirs):] + [hindsight_constant(sweep)]
     out = Path(out_dir or (model_dirs[0] if model_dirs else "evaluation"))
     header = (f"Held-out seeds {seed}..{seed + episodes - 1}, {episodes} episodes of {episode_steps} control "
-              f"intervals (20 ms) each, randomized scenarios; best constant preload from a sweep over "
+              f"intervals (20 ms) each, tier {tier}{' (the registered BearingPreload-v0)' if tier == DEFAULT_TIER and episode_steps == EPISODE_STEPS else ' (not the benchmark definition)'}; best constant preload from a sweep over "
               f"{', '.join(f'{p:.0f}' for p in CONSTANT_CANDIDATES_N)} N on the same scenarios: {best_n:.0f} N. "
               f"The last row picks, for each scenario, the best of those constants with hindsight.")
     write_report(results, out, header, reference=ConstantPreload(best_n).name, first_seed=seed)
@@ -396,18 +400,25 @@ def evaluate(model_dir: str | Path | list[str | Path] | None, episodes: int = 20
     return results
 
 
-def main(argv: list[str] | None = None) -> None:
+def build_parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--model", nargs="+", help="directories written by train.py, evaluated side by side "
                     "(omit to evaluate the baselines only)")
     ap.add_argument("--episodes", type=int, default=20)
-    ap.add_argument("--episode-steps", type=int, default=100)
+    ap.add_argument("--episode-steps", type=int, default=EPISODE_STEPS,
+                    help="control intervals per episode (default: the benchmark's horizon)")
     ap.add_argument("--seed", type=int, default=TEST_SEED)
+    ap.add_argument("--tier", choices=TIER_NAMES, default=DEFAULT_TIER)
     ap.add_argument("--out", help="output directory (default: the first model directory)")
+    return ap
+
+
+def main(argv: list[str] | None = None) -> None:
+    ap = build_parser()
     args = ap.parse_args(argv)
     if args.episodes < 2:
         ap.error("--episodes must be >= 2 (a confidence interval needs two episodes)")
-    evaluate(args.model, args.episodes, args.seed, args.episode_steps, args.out)
+    evaluate(args.model, args.episodes, args.seed, args.episode_steps, args.out, tier=args.tier)
 
 
 if __name__ == "__main__":

@@ -17,6 +17,7 @@ from typing import Any
 
 import numpy as np
 
+from bearing_gym.analysis.signals import QPI_THRESHOLD
 from bearing_gym.envs.actuator import PreloadActuator
 from bearing_gym.envs.observation import FEATURE_NAMES
 
@@ -92,8 +93,8 @@ class FeedbackRule(Policy):
     after ``hold_steps`` quiet intervals (index below ``low``) lower it by ``lower_n`` per
     interval. The state is the per-env (set-point, quiet-interval count)."""
 
-    high: float = 0.3
-    low: float = 0.1
+    high: float = QPI_THRESHOLD
+    low: float = QPI_THRESHOLD / 3
     raise_n: float = 250.0
     lower_n: float = 10.0
     hold_steps: int = 10

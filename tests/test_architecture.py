@@ -2,7 +2,7 @@
 
 Layers, lowest first (a module may import its own layer and those below):
 
-    validation, units, serialization, timing (and the numba cache set-up)
+    validation, units, serialization, benchmark (and the numba cache set-up)
     < params (and the package's __init__)
     < physics < analysis < envs < reproduction < cli (and ``python -m bearing_gym``)
 
@@ -21,7 +21,7 @@ PACKAGE = ROOT / "bearing_gym"
 
 LAYERS = (
     ("base", ("bearing_gym._numba_cache", "bearing_gym.validation", "bearing_gym.units",
-              "bearing_gym.serialization", "bearing_gym.timing")),
+              "bearing_gym.serialization", "bearing_gym.benchmark")),
     ("params", ("bearing_gym.params", "bearing_gym")),
     ("physics", ("bearing_gym.physics",)),
     ("analysis", ("bearing_gym.analysis",)),

@@ -31,7 +31,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from bearing_gym.timing import CONTROL_DT_S, EPISODE_STEPS
+from bearing_gym.benchmark import CONTROL_DT_S, DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
 
 from .actuator import PreloadActuator
 from .observation import ObservationModel
@@ -40,7 +40,6 @@ from .scenario import PAPER, FixedScenario, ScenarioDistribution
 
 __all__ = ["TIERS", "DEFAULT_TIER", "EPISODE_STEPS", "CONTROL_DT_S", "tier_parts"]
 
-DEFAULT_TIER = "transient"
 
 _STATIONARY = ScenarioDistribution()
 _TRANSIENT = ScenarioDistribution(events=3)
@@ -54,6 +53,9 @@ TIERS: dict[str, dict[str, Any]] = {
     "transient": {"scenario": _TRANSIENT, "observation": ObservationModel()},
     "field": {"scenario": _FIELD, "observation": _FIELD_SENSOR},
 }
+
+
+assert tuple(TIERS) == TIER_NAMES, "bearing_gym.benchmark.TIER_NAMES must name the tiers in order"
 
 
 def tier_parts(tier: str) -> dict[str, Any]:

@@ -123,7 +123,7 @@ def test_smoke_training_saves_reloads_and_evaluates(algo, tmp_path, capsys):
     np.testing.assert_array_equal(pol.obs_rms.mean, vn.obs_rms.mean)
     assert f"{best['num_timesteps']:,} steps" in pol.name
     # several trained policies side by side, on the same scenarios as the baselines
-    res = evaluate([out, out], episodes=2, episode_steps=4, out_dir=tmp_path / "side", verbose=False)
+    res = evaluate([out, out], episodes=2, episode_steps=4, seed=100000, out_dir=tmp_path / "side", verbose=False)
     trained = [r for r in res if "(trained" in r.name]
     assert len(trained) == 2 and np.array_equal(trained[0].returns, trained[1].returns)
     assert (tmp_path / "side" / "evaluation.md").read_text().count("(trained") >= 2
@@ -185,12 +185,12 @@ def test_validation_scores_every_checkpoint_on_the_same_scenarios(tmp_path, caps
     from stable_baselines3.common.logger import configure as configure_logger
     from stable_baselines3.common.vec_env import VecNormalize
     from agents.callbacks import ValidationCallback
-    env = VecNormalize(train.make_env(2, 0, 6))
+    env = VecNormalize(train.make_env(2, 0, 6, "transient"))
     model = PPO("MlpPolicy", env, n_steps=8, batch_size=8, seed=0, device="cpu")
     model.set_logger(configure_logger(None, []))
 
     def two_evaluations(cls, path, **kw):
-        val = VecNormalize(train.make_env(2, 50000, 6), training=False, norm_reward=False)
+        val = VecNormalize(train.make_env(2, 50000, 6, "transient"), training=False, norm_reward=False)
         cb = cls(val, n_eval_episodes=2, eval_freq=1, log_path=str(path), best_model_save_path=str(path), **kw)
         cb.init_callback(model)
         cb.on_step()
@@ -257,13 +257,14 @@ def _diverging(limit_m):
 
 def test_evaluation_reports_episodes_that_all_terminate_in_the_same_step(tmp_path):
     from agents.evaluate import write_report
-    from bearing_gym.envs.reward import RewardModel
+    from bearing_gym.envs.reward import VibrationFirstReward
     # every env of the batch ends in the same step: the next venv.step would only autoreset them
     res = run_policies([ConstantPreload(300.0)], episodes=2, seed=0, episode_steps=25,
                        env_kwargs=_diverging(2e-5))[0]
     assert res.terminated.all() and res.terminated_count == 2
     assert np.all(np.isfinite(res.returns))
-    assert np.all(res.returns <= -RewardModel().termination_penalty)   # the penalty is in the return
+    worst = VibrationFirstReward().worst_step_cost(20000 * np.pi / 30, 0.0)
+    assert np.all(res.returns <= -worst)   # the termination penalty is in the return
     # the trace stops where the episode ended, it does not run on into the autoreset episode
     assert 1 <= len(res.trace["t"]) < 25 and np.all(np.diff(res.trace["t"]) > 0)
     write_report([res], tmp_path, first_seed=0)
