@@ -27,7 +27,7 @@ from bearing_gym.physics.layout import I_DT, N_PRM
 from bearing_gym.physics.rotor import N_REC, N_SCAL
 
 from .actuator import PreloadActuator
-from .kernel import step_batch, step_batch_serial
+from .kernel import E_PRELOAD, E_SETPOINT, E_T, N_ENV_STATE, step_batch, step_batch_serial
 from .scenario import SCHEDULE_SIZE, Scenario
 
 MAX_RACE_TERMS = 4
@@ -84,7 +84,7 @@ class PreloadBatch:
         self.psi_b = np.zeros((B, nb))
         self.ball_v = np.zeros((B, nb, 2))
         self.ball_out = np.zeros((B, nb, N_BALL_OUT))
-        self.env_state = np.zeros((B, 3))      # preload, setpoint, t_episode
+        self.env_state = np.zeros((B, N_ENV_STATE))      # columns E_PRELOAD, E_SETPOINT, E_T
         self.sched = np.zeros((B, SCHEDULE_SIZE))
         self.act = actuator.as_array()
         self.rec = np.zeros((B, self.n_sub * self.steps_per_sub + 1, N_REC))
@@ -178,8 +178,8 @@ class PreloadBatch:
                 getattr(self, name)[b] = value
         for b in idx:
             self.start_failed[b] = self.status[b] != 0
-            self.env_state[b, 2] = 0.0
-            self.env_state[b, 0] = self.env_state[b, 1] = self.scenarios[b].initial_preload_n
+            self.env_state[b, E_T] = 0.0
+            self.env_state[b, E_PRELOAD] = self.env_state[b, E_SETPOINT] = self.scenarios[b].initial_preload_n
 
     def _run_settle(self, todo: np.ndarray) -> None:
         from bearing_gym.physics.layout import I_CX, I_CTY
@@ -189,7 +189,7 @@ class PreloadBatch:
             self.sched[b] = dataclasses.replace(
                 sc, speed_profile=((0.0, sc.initial_speed_rpm),),
                 radial_load_profile=((0.0, sc.initial_radial_load_n),)).schedule_array()
-        setpoints = self.env_state[:, 1].copy()
+        setpoints = self.env_state[:, E_SETPOINT].copy()
 
         def run(envs: np.ndarray, intervals: int, n_sub: int) -> None:
             active = np.zeros(self.n, dtype=bool)
@@ -218,7 +218,7 @@ class PreloadBatch:
         self._kernel(setpoints, active & ~self.start_failed, self.n_sub)
 
     def _kernel(self, setpoints: np.ndarray, active: np.ndarray, n_sub: int) -> None:
-        self.env_state[active, 1] = setpoints[active]
+        self.env_state[active, E_SETPOINT] = setpoints[active]
         kernel = step_batch if self.n > 1 else step_batch_serial
         kernel(active, self.prm, self.race_wav, self.n_race, self.ball_wav, self.n_ball,
                self.ball_phase, self.ball_size, self.X, self.V, self.A, self.scal, self.psi_b,
@@ -228,15 +228,15 @@ class PreloadBatch:
     @property
     def preload(self) -> np.ndarray:
         """Actual preload (N) of each env (a view)."""
-        return self.env_state[:, 0]
+        return self.env_state[:, E_PRELOAD]
 
     @property
     def setpoint(self) -> np.ndarray:
-        return self.env_state[:, 1]
+        return self.env_state[:, E_SETPOINT]
 
     @property
     def t_episode(self) -> np.ndarray:
-        return self.env_state[:, 2]
+        return self.env_state[:, E_T]
 
     def omega(self) -> np.ndarray:
         from bearing_gym.physics.layout import I_OMEGA

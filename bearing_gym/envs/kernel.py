@@ -21,6 +21,12 @@ from bearing_gym.physics.rotor import integrate
 from .actuator import actuator_update
 from .scenario import MAX_EVENTS
 
+# columns of an env's state row (PreloadBatch.env_state)
+E_PRELOAD = 0       # actual preload (N)
+E_SETPOINT = 1      # set-point (N)
+E_T = 2             # time in the episode (s)
+N_ENV_STATE = 3
+
 
 @njit(cache=True, inline="always")
 def operating_point(row, t):
@@ -53,16 +59,16 @@ def step_one(prm, race_wav, ball_wav, ball_phase, ball_size, X, V, A, scal, psi_
     st = 0
     h = steps_per_sub * prm[I_DT]
     for _ in range(n_sub):
-        omega, fx, fy = operating_point(sched, state[2])
+        omega, fx, fy = operating_point(sched, state[E_T])
         prm[I_OMEGA] = omega
         prm[I_PX] = fx
         prm[I_PY] = fy
-        state[0] = actuator_update(state[0], state[1], h, act[0], act[1])
-        prm[I_PZ] = state[0]
+        state[E_PRELOAD] = actuator_update(state[E_PRELOAD], state[E_SETPOINT], h, act[0], act[1])
+        prm[I_PZ] = state[E_PRELOAD]
         st, done, rows = integrate(prm, race_wav, ball_wav, ball_phase, ball_size, X, V, A, scal,
                                    psi_b, ball_v, ball_out, steps_per_sub, 1, rec[rows_total:])
         rows_total += rows
-        state[2] += done * prm[I_DT]
+        state[E_T] += done * prm[I_DT]
         if st != 0:
             break
     window_features(rec, rows_total, feats)

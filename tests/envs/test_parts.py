@@ -214,3 +214,22 @@ def test_every_tier_builds_and_the_default_is_the_transient_one():
     for tier in TIERS:
         env = BearingPreloadEnv(tier=tier)
         assert env.observation_space.shape == (len(FEATURE_NAMES),)
+
+
+# --- actuator ---------------------------------------------------------------------------------
+def test_actuator_maps_actions_linearly_and_inverts():
+    a = PreloadActuator()
+    assert a.setpoint_n(np.array([-1.0, 0.0, 1.0])).tolist() == [300.0, 1150.0, 2000.0]
+    for p in (300.0, 777.0, 2000.0):
+        assert a.setpoint_n(a.action_for(p)) == pytest.approx(p, rel=1e-12)
+
+
+def test_actuator_dynamics_are_a_rate_limited_first_order_lag():
+    from bearing_gym.envs.actuator import actuator_update
+    # small step: pure lag, 1 - exp(-h / tau) of the way
+    assert actuator_update(1000.0, 1010.0, 1e-3, 0.02, 2e4) == pytest.approx(1000.0 + 10.0 * (1 - math.exp(-0.05)), rel=1e-12)
+    # large step: the rate limit (20 kN/s x 1 ms = 20 N) binds, both ways
+    assert actuator_update(1000.0, 2000.0, 1e-3, 0.02, 2e4) == pytest.approx(1020.0, rel=1e-12)
+    assert actuator_update(1000.0, 300.0, 1e-3, 0.02, 2e4) == pytest.approx(980.0, rel=1e-12)
+    # no lag: straight to the set-point (within the rate limit)
+    assert actuator_update(1000.0, 1005.0, 1e-3, 0.0, 2e4) == 1005.0
