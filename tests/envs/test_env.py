@@ -105,6 +105,14 @@ def test_bad_actions_raise(bad, match):
         env.step(bad)
 
 
+@pytest.mark.parametrize("bad", ["0.5", None, b"1", {"a": 1}])
+def test_actions_that_are_not_numbers_raise_type_error(bad):
+    env = BearingPreloadEnv(scenario="paper")
+    env.reset(seed=0)
+    with pytest.raises(TypeError, match="action must be a number"):
+        env.step(bad)
+
+
 def test_unknown_reset_option_raises():
     env = BearingPreloadEnv()
     with pytest.raises(ValueError, match="preload_target"):

@@ -214,6 +214,12 @@ def test_every_tier_builds_and_the_default_is_the_transient_one():
     for tier in TIERS:
         env = BearingPreloadEnv(tier=tier)
         assert env.observation_space.shape == (len(FEATURE_NAMES),)
+        obs, _ = env.reset(seed=11)
+        for _ in range(3):
+            obs, r, term, trunc, info = env.step(env.action_space.sample())
+            assert env.observation_space.contains(obs) and np.isfinite(r) and not term
+    # the field tier's sensor has no cage channel; the others do
+    assert not TIERS["field"]["observation"].cage_speed_sensor and TIERS["transient"]["observation"].cage_speed_sensor
 
 
 # --- actuator ---------------------------------------------------------------------------------
