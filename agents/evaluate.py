@@ -30,7 +30,8 @@ from bearing_gym.analysis.signals import QPI_THRESHOLD
 from bearing_gym.envs.reward import REWARD_TERMS
 from bearing_gym.benchmark import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
 
-from .policies import ConstantPreload, FeedbackRule, OraclePreload, Policy, SpeedScheduledPreload
+from .oracle import MapOracle
+from .policies import ConstantPreload, FeedbackRule, Policy, SpeedScheduledPreload
 from .protocol import TEST
 from .stability_table import StabilityTable
 
@@ -165,17 +166,15 @@ def run_policies(policies: list[Policy], episodes: int, seed: int, episode_steps
     starts = np.ones(episodes, dtype=bool)
     keys = ("t", "preload_n", "setpoint_n", "qpi", "shaft_speed_rpm", "radial_load_n")
     traces = [{k: [] for k in keys + ("ptp_x_um",)} for _ in range(n_pol)]
-    batch = venv._batch
-    first_scenarios = [batch.scenarios[p * episodes] for p in range(n_pol)]
+    first_scenarios = [venv.scenarios[p * episodes] for p in range(n_pol)]
     report = _Progress(progress, episode_steps, progress_every_s)
     for k in range(episode_steps):
         actions = np.zeros((n, 1), dtype=np.float32)
         for p, pol in enumerate(policies):
             sl = slice(p * episodes, (p + 1) * episodes)
-            if isinstance(pol, OraclePreload):
-                sc = batch.scenarios[sl]
-                pol.set_conditions(batch.omega()[sl] * 30.0 / math.pi, batch.radial_load_n()[sl],
-                                   np.array([s.clearance_m for s in sc]))
+            if hasattr(pol, "set_conditions"):          # an oracle: told the true operating point
+                speed, radial, clearance = venv.operating_points()
+                pol.set_conditions(speed[sl], radial[sl], clearance[sl])
             act, states[p] = pol.predict(obs[sl], state=states[p], episode_start=starts, deterministic=True)
             actions[sl] = np.asarray(act, dtype=np.float32).reshape(episodes, 1)
         starts = np.zeros(episodes, dtype=bool)
@@ -242,7 +241,8 @@ def baselines(table: StabilityTable | None) -> list[Policy]:
     """The scripted controllers besides the constant preloads (those come from the sweep)."""
     pols: list[Policy] = [FeedbackRule()]
     if table is not None:
-        pols += [SpeedScheduledPreload(table), OraclePreload(table)]
+        pols += [SpeedScheduledPreload(table)]
+    pols.append(MapOracle())
     return pols
 
 

@@ -13,6 +13,7 @@ from gymnasium.utils import seeding
 from gymnasium.vector import AutoresetMode, VectorEnv
 
 from bearing_gym.params import BearingParams
+from bearing_gym.units import rad_s_to_rpm
 
 from .bearing_preload import BearingPreloadEnv
 from .common import (DEFAULTS, check_actions, configure, measurement, observe, reset_envs,
@@ -142,6 +143,17 @@ class BearingPreloadVectorEnv(VectorEnv):
         m = measurement(batch, idx, batch.preload[idx].copy(), np.full(len(idx), self.episode_steps),
                         batch.start_failed[idx].copy())
         return observe(self, m, idx, rngs), [reset_info(batch, int(b), m, i) for i, b in enumerate(idx)]
+
+    @property
+    def scenarios(self) -> tuple:
+        """The scenario each env is running (None before its first reset)."""
+        return tuple(self._batch.scenarios)
+
+    def operating_points(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+        """(shaft speed rpm, radial load N, clearance m) of every env now: what an oracle is told."""
+        b = self._batch
+        clearance = np.array([np.nan if sc is None else sc.clearance_m for sc in b.scenarios])
+        return rad_s_to_rpm(b.omega()), b.radial_load_n(), clearance
 
     def _with_threads(self, fn, *args):
         """``fn(*args)`` with numba's thread count set to ``num_threads`` for this call only (the
