@@ -9,7 +9,7 @@ and saves the VecNormalize statistics beside the best model (the model alone can
 evaluated without the observation statistics it was trained with).
 
 The validation seeds must differ from the held-out test seeds of ``agents.evaluate``
-(``agents.evaluate.TEST_SEED`` = 100000 and up): choosing a checkpoint on the test scenarios would bias the test.
+(``agents.protocol.TEST``, 300000 and up): choosing a checkpoint on the test scenarios would bias the test.
 """
 
 from __future__ import annotations

@@ -53,7 +53,8 @@ class RecedingHorizonMPC:
         best, best_action = -np.inf, None
         for p in self.candidates_n:
             action = np.array([env.actuator.action_for(p)], dtype=np.float32)
-            score = _hold(copy.deepcopy(env), action, self.horizon)
+            look_ahead = min(self.horizon, max(env.episode_steps - env.steps_taken, 1))   # not past the end
+            score = _hold(copy.deepcopy(env), action, look_ahead)
             if score > best:
                 best, best_action = score, action
         return best_action

@@ -1,5 +1,6 @@
 """Critical preload over (shaft speed, radial load, clearance): the table behind the
-speed-scheduled and oracle policies.
+speed-scheduled policy and the critical-preload oracle of the first definition
+(``OraclePreload``; the evaluation now uses the reward-map oracle, :mod:`agents.oracle`).
 
 Built with :func:`bearing_gym.analysis.sweeps.stability_map` (continuation: the preload steps
 down from the previous end state, so the number is the loss of stability of the periodic orbit)

@@ -66,6 +66,11 @@ def scenario_gap(args: tuple) -> dict:
             "clearance_um": sc.clearance_m * 1e6, "wall_s": time.time() - t0}
 
 
+def mpc_candidates() -> tuple[float, ...]:
+    from .mpc import DEFAULT_CANDIDATES_N
+    return DEFAULT_CANDIDATES_N
+
+
 def paired_ci(diff: np.ndarray) -> tuple[float, float, float]:
     from scipy import stats
     m = float(np.mean(diff))
@@ -101,7 +106,7 @@ def main(argv: list[str] | None = None) -> None:
     m, lo, hi = paired_ci(diff)
     summary = {"tier": a.tier, "seeds": [a.seed, a.seed + a.episodes - 1], "episodes": a.episodes,
                "grid_step_n": a.grid_step, "mpc": {"horizon": a.horizon, "replan_every": a.replan_every,
-                                                    "candidates": 9},
+                                                    "candidates": len(mpc_candidates())},
                "mean_mpc_return": float(np.mean([r["mpc_return"] for r in rows])),
                "mean_hindsight_return": float(np.mean([r["hindsight_return"] for r in rows])),
                "paired_mpc_minus_hindsight": m, "ci95_low": lo, "ci95_high": hi,

@@ -66,7 +66,7 @@ class BearingPreloadEnv(gym.Env):
     * vibration ``q (1 + min(a, 100 um) / 10 um)``: q = 1 if the interval is quasi-periodic
       (index > ``QPI_THRESHOLD`` = 0.1) else 0, a the RMS of the non-synchronous displacement
       (x, y, z after removing the shaft-synchronous series up to 3x);
-    * heat ``0.5 (P / 2000 N)(n / 25,000 rpm)`` (Palmgren: friction heat ~ P n);
+    * heat ``0.5 (P / 2000 N)^1.33 (n / 25,000 rpm)`` (Palmgren: friction heat ~ P^1.33 n);
     * fatigue ``0.5 (P_eq / P_eq,max)^3 (n / 25,000 rpm)`` (ISO 281: life used ~ P_eq^3 n,
       P_eq = max(F_r, 0.41 F_r + 0.87 P), P_eq,max at 2000 N and 500 N radial);
     * actuation ``0.1 |Delta P| / 1700 N``;
@@ -167,6 +167,15 @@ class BearingPreloadEnv(gym.Env):
         self._active = np.array([True])
         self._steps = 0
         self.scenario = None
+        if self.episode_steps != DEFAULTS["episode_steps"]:
+            gym.logger.warn(f"episode_steps={self.episode_steps} is not the benchmark's horizon "
+                            f"({DEFAULTS['episode_steps']}); with gym.make pass max_episode_steps="
+                            f"{self.episode_steps} too, or the registered time limit ends the episode elsewhere")
+
+    @property
+    def steps_taken(self) -> int:
+        """Control intervals since the last reset."""
+        return self._steps
 
     # ------------------------------------------------------------------------------------------
     def reset(self, *, seed: int | None = None, options: dict | None = None):
@@ -175,7 +184,7 @@ class BearingPreloadEnv(gym.Env):
         self._steps = 0
         self._history.clear()
         self._poincare.clear()
-        b = self._batch
+        b = self.batch
         m = measurement(b, self._idx, b.preload[self._idx].copy(), np.array([self.episode_steps]),
                         b.start_failed[self._idx].copy())
         obs = observe(self, m, self._idx, [self.np_random])
@@ -188,7 +197,7 @@ class BearingPreloadEnv(gym.Env):
         if self.scenario is None:
             raise RuntimeError("call reset() before step()")
         a = check_actions(action, 1)
-        b = self._batch
+        b = self.batch
         before = b.preload[self._idx].copy()
         b.step(self.actuator.setpoint_n(a), self._active)
         self._steps += 1
@@ -202,7 +211,7 @@ class BearingPreloadEnv(gym.Env):
 
     # ------------------------------------------------------------------------------------------
     def _remember(self) -> None:
-        orbit = record_interval(self._batch, 0, self._history, self._poincare)
+        orbit = record_interval(self.batch, 0, self._history, self._poincare)
         if orbit is not None:
             self._orbit = orbit
 
@@ -256,7 +265,7 @@ class BearingPreloadEnv(gym.Env):
 
     def _title(self) -> str:
         if not self._history:
-            return f"t = 0 s, preload {float(self._batch.preload[0]):.0f} N (reset)"
+            return f"t = 0 s, preload {float(self.batch.preload[0]):.0f} N (reset)"
         t, p, sp, q = self._history[-1]
         return (f"t = {t:.2f} s, preload {p:.0f} N, set-point {sp:.0f} N, "
                 f"quasi-periodicity index {q:.3f}")

@@ -13,7 +13,7 @@ from bearing_gym.units import rad_s_to_rpm
 
 from .core import PreloadBatch
 from .measurement import StepMeasurement
-from .parts import resolve_part
+from .parts import rebuild_dataclass, resolve_part
 from .scenario import FixedScenario, Scenario, check_pinned
 from .tiers import CONTROL_DT_S, DEFAULT_TIER, EPISODE_STEPS, TIERS, tier_parts
 
@@ -26,6 +26,8 @@ _REQUIRED = {
 
 
 def _scenario_part(value: Any, default: Any) -> Any:
+    if isinstance(value, Mapping):                # from a spec's JSON: rebuild first
+        value = resolve_part("scenario", value, default, ())
     if isinstance(value, str):
         if value not in TIERS:
             raise ValueError(f"unknown scenario preset {value!r}; valid: {', '.join(TIERS)} (the tiers' scenarios)")
@@ -47,6 +49,8 @@ def configure(env, tier: str, scenario, actuator, observation, reward, params,
     check_real("control_dt_s", control_dt_s, 1e-3, 1.0)
     if isinstance(episode_steps, bool) or not isinstance(episode_steps, (int, np.integer)) or episode_steps < 1:
         raise ValueError(f"episode_steps must be an integer >= 1, got {episode_steps!r}")
+    if isinstance(params, Mapping):                # from a spec's JSON
+        params = rebuild_dataclass(BearingParams, params)
     if params is not None and not isinstance(params, BearingParams):
         raise TypeError(f"params must be a bearing_gym.BearingParams (default_params(...)), got {type(params).__name__}")
     env.tier = tier
@@ -55,8 +59,8 @@ def configure(env, tier: str, scenario, actuator, observation, reward, params,
     env.observation_model = resolve_part("observation", observation, parts["observation"], _REQUIRED["observation"])
     env.reward_model = resolve_part("reward", reward, parts["reward"], _REQUIRED["reward"])
     env.episode_steps = int(episode_steps)
-    env._batch = PreloadBatch(num_envs, params, control_dt_s, env.actuator)
-    env.control_dt_s = env._batch.control_dt_s
+    env.batch = PreloadBatch(num_envs, params, control_dt_s, env.actuator)
+    env.control_dt_s = env.batch.control_dt_s
     env._sensor_state = env.observation_model.make_state(num_envs)
 
 
@@ -85,7 +89,7 @@ def reset_envs(env, idx: Sequence[int], rngs: Sequence[np.random.Generator],
                options: Mapping[str, Any] | None) -> list[Scenario]:
     """Draw (or take from options) the scenarios of envs ``idx``, load them and settle them
     together (one batched warm-up)."""
-    batch: PreloadBatch = env._batch
+    batch: PreloadBatch = env.batch
     episode_s = env.episode_steps * env.control_dt_s
     scenarios = []
     for b, rng in zip(idx, rngs):
@@ -134,7 +138,7 @@ def reset_info(batch: PreloadBatch, b: int, m: StepMeasurement, i: int) -> dict[
 
 def step_outputs(env, idx: np.ndarray, preload_before: np.ndarray, steps_left: np.ndarray, rngs):
     """Observations, rewards, terminations and infos of envs ``idx`` after a kernel step."""
-    batch: PreloadBatch = env._batch
+    batch: PreloadBatch = env.batch
     status = batch.status[idx]
     terminated = (status != ST_OK) | batch.start_failed[idx]
     m = measurement(batch, idx, preload_before, steps_left, terminated)

@@ -34,6 +34,7 @@ MAX_RACE_TERMS = 4
 
 # settled start (PreloadBatch.settle), in control intervals
 SETTLE_KICK_INTERVALS = 10      # from the static equilibrium at nominal damping
+SETTLE_KICK_MAX_INTERVALS = 25  # ... continued while the motion still reads quasi-periodic
 SETTLE_AID_INTERVALS = 20       # period-1 only: damping boosted, decaying smoothly to nominal
 SETTLE_TAIL_INTERVALS = 3       # nominal damping again; the last one gives the first observation
 SETTLE_DAMPING_BOOST = 10.0     # damping factor at the start of the aid
@@ -105,7 +106,7 @@ class PreloadBatch:
         """Start env ``b`` at the static equilibrium of ``scenario`` at t = 0."""
         params = scenario_params(self.base, scenario)
         sim = Simulator(params)
-        p = sim._packed
+        p = sim.packed_params
         self.prm[b] = p.prm
         nr = p.race_wav.shape[0]
         if nr > MAX_RACE_TERMS:
@@ -146,8 +147,10 @@ class PreloadBatch:
         0.5-1 in the first interval at every preload, and near a stability boundary its slowest
         Floquet mode decays at only a few per second. The start therefore runs
         ``SETTLE_KICK_INTERVALS`` at nominal damping (the kick of the cold start carries an
-        unstable preload onto its quasi-periodic attractor, as a run-up does); where the motion
-        is then period-1 (index <= QPI_THRESHOLD) a settling aid follows: the rotor damping is
+        unstable preload onto its quasi-periodic attractor, as a run-up does), continued one
+        interval at a time up to ``SETTLE_KICK_MAX_INTERVALS`` while the index still reads
+        quasi-periodic (a slow transient of a large unbalance can take 15 intervals to decay);
+        where the motion is then period-1 (index <= QPI_THRESHOLD) a settling aid follows: the rotor damping is
         raised ``SETTLE_DAMPING_BOOST``-fold and lowered smoothly (geometrically, every actuator
         update) back to nominal over ``SETTLE_AID_INTERVALS``, which damps the ringing without
         moving the orbit abruptly; ``SETTLE_TAIL_INTERVALS`` at nominal damping close it. The
@@ -201,6 +204,11 @@ class PreloadBatch:
                 self._kernel(setpoints, active, n_sub)
 
         run(todo, SETTLE_KICK_INTERVALS, self.n_sub)
+        for _ in range(SETTLE_KICK_MAX_INTERVALS - SETTLE_KICK_INTERVALS):   # a slow transient?
+            ringing = todo[(self.status[todo] == 0) & (self.feats[todo, F_QPI] > QPI_THRESHOLD)]
+            if not len(ringing):
+                break
+            run(ringing, 1, self.n_sub)
         periodic = todo[(self.status[todo] == 0) & (self.feats[todo, F_QPI] <= QPI_THRESHOLD)]
         if len(periodic):
             nominal = self.prm[periodic, I_CX:I_CTY + 1].copy()

@@ -4,7 +4,7 @@ The env is composed of parts: a scenario distribution, an actuator, a sensor (ob
 model) and a reward model (see :mod:`.scenario`, :mod:`.actuator`, :mod:`.observation`,
 :mod:`.reward` for the protocols each must follow). Pass your own object to ``gym.make``::
 
-    gym.make("BearingPreload-v0", reward=MyReward(), sensor=MySensor())
+    gym.make("BearingPreload-v0", reward=MyReward(), observation=MySensor())
 
 Gymnasium serialises ``env.spec`` with :func:`dataclasses.asdict`, which turns a dataclass
 into a plain dict and loses its type. A part that is a dataclass with an ``entry_point`` field
@@ -21,7 +21,7 @@ import importlib
 from collections.abc import Mapping
 from typing import Any
 
-__all__ = ["part_entry_point", "resolve_part", "ENTRY_POINT"]
+__all__ = ["part_entry_point", "resolve_part", "rebuild_dataclass", "ENTRY_POINT"]
 
 ENTRY_POINT = "entry_point"
 
@@ -55,6 +55,24 @@ def _rebuild(value: Any) -> Any:
     if isinstance(value, list):
         return tuple(_rebuild(v) for v in value)
     return value
+
+
+def rebuild_dataclass(cls: type, data: Mapping[str, Any]) -> Any:
+    """``cls`` rebuilt from the dict :func:`dataclasses.asdict` made of it (nested dataclass
+    fields recursively, lists back to tuples): how a spec's JSON gets ``params`` back."""
+    import typing
+    hints = typing.get_type_hints(cls)
+    kwargs = {}
+    for f in dataclasses.fields(cls):
+        if not f.init or f.name not in data:
+            continue
+        value, hint = data[f.name], hints.get(f.name)
+        if isinstance(value, Mapping) and dataclasses.is_dataclass(hint):
+            value = rebuild_dataclass(hint, value)
+        elif isinstance(value, list):
+            value = _rebuild(value)
+        kwargs[f.name] = value
+    return cls(**kwargs)
 
 
 def resolve_part(name: str, value: Any, default: Any, required: tuple[str, ...]) -> Any:

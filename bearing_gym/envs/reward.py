@@ -19,8 +19,9 @@ term                  cost per control interval (dimensionless; the reward is mi
                       a = RMS of the non-synchronous displacement of x, y, z in um (what is
                       left after removing the once-per-revolution response and its harmonics,
                       :mod:`.features`); a_ref = 10 um, a_cap = 100 um.
-``heat``              s_h (P / P_max) (n / n_max). Palmgren: the load-dependent friction
-                      torque is M_1 = f_1 P d_m and its heat M_1 omega, proportional to P n.
+``heat``              s_h (P / P_max)^1.33 (n / n_max). Palmgren: the load-dependent friction
+                      torque is M_1 = f_1 P d_m with f_1 = z (P_0 / C_0)^0.33 for ball bearings,
+                      so M_1 ~ P^1.33, and its heat M_1 omega ~ P^1.33 n.
 ``fatigue``           s_f (P_eq / P_eq,max)^3 (n / n_max). ISO 281: L10 = (C / P_eq)^3
                       revolutions, so the fraction of the rating life used per second is
                       proportional to P_eq^3 n; P_eq = max(F_r, 0.41 F_r + 0.87 F_a) (X, Y of a
@@ -39,7 +40,7 @@ Why these weights (nothing here is fitted to a policy):
 * heat and fatigue share the secondary cost equally (s_h = s_f = 0.5) and are scaled so that
   together they cost exactly 1 at the costliest corner of the envelope (P_max, n_max,
   F_r,max). Both follow the physical law of their term, so ratios between operating points are
-  physical (twice the preload, twice the heat; twice the load, eight times the life used).
+  physical (twice the preload, 2.5 times the heat; twice the load, eight times the life used).
 * vibration comes first: a quasi-periodic interval costs at least 1, as much as the most
   expensive preload anywhere in the envelope, so no saving of heat or life can pay for
   quasi-periodic motion. On top of that, every 10 um RMS of non-synchronous vibration costs as
@@ -73,6 +74,7 @@ from .parts import part_entry_point
 __all__ = ["Reward", "VibrationFirstReward", "REWARD_TERMS"]
 
 REWARD_TERMS = ("vibration", "heat", "fatigue", "actuation", "termination")
+HEAT_LOAD_EXPONENT = 1.33      # Palmgren: M_1 = f_1 P d_m, f_1 ~ (P_0 / C_0)^0.33
 
 
 @runtime_checkable
@@ -122,7 +124,7 @@ class VibrationFirstReward:
         """(heat, fatigue) costs (>= 0) at an operating point."""
         speed = np.asarray(shaft_speed_rad_s) / rpm_to_rad_s(self.max_speed_rpm)
         p_eq_max = self.equivalent_load_n(self.max_radial_load_n, self.max_preload_n)
-        heat = self.heat_share * np.asarray(preload_n) / self.max_preload_n * speed
+        heat = self.heat_share * (np.asarray(preload_n) / self.max_preload_n) ** HEAT_LOAD_EXPONENT * speed
         fatigue = self.fatigue_share * (self.equivalent_load_n(radial_load_n, preload_n) / p_eq_max) ** 3 * speed
         return heat, fatigue
 

@@ -32,10 +32,10 @@ class BearingPreloadSB3VecEnv(_SB3VecEnv):
         self._started = False
 
     def reset(self):
-        self.venv._seed(list(self._seeds))
+        self.venv.seed_some(list(self._seeds))
         obs = np.zeros((self.num_envs,) + self.observation_space.shape, dtype=np.float32)
         for b in range(self.num_envs):
-            o, infos = self.venv._reset_envs(np.array([b]), self._options[b] or None)
+            o, infos = self.venv.reset_some(np.array([b]), self._options[b] or None)
             obs[b], self.reset_infos[b] = o[0], infos[0]
         self._reset_seeds()        # seeds and options are used once, as in SB3's own VecEnvs
         self._reset_options()
@@ -50,13 +50,13 @@ class BearingPreloadSB3VecEnv(_SB3VecEnv):
             raise RuntimeError("call reset() before step()")
         a = check_action_batch(self._actions, self.num_envs)
         idx = np.arange(self.num_envs)
-        obs, rew, term, trunc, infos = self.venv._step_envs(a, idx)
+        obs, rew, term, trunc, infos = self.venv.step_some(a, idx)
         dones = term | trunc
         for b in idx:
             infos[b]["TimeLimit.truncated"] = bool(trunc[b] and not term[b])
         for b in np.flatnonzero(dones):
             infos[b]["terminal_observation"] = obs[b].copy()
-            o, reset_infos = self.venv._reset_envs(np.array([b]), None)
+            o, reset_infos = self.venv.reset_some(np.array([b]), None)
             obs[b], self.reset_infos[b] = o[0], reset_infos[0]
         return obs, rew.astype(np.float32), dones, infos
 

@@ -114,7 +114,7 @@ class BearingPreloadVectorEnv(VectorEnv):
         return self._rngs[b]
 
     # --- building blocks (also used by the SB3 adapter) ----------------------------------------
-    def _seed(self, seed: int | Sequence[int | None] | None, idx: np.ndarray | None = None) -> None:
+    def seed_some(self, seed: int | Sequence[int | None] | None, idx: np.ndarray | None = None) -> None:
         """Seed envs ``idx`` (default all) from ``seed``: None, an int (env i gets seed + i) or
         one entry per env (None keeps that env's generator). Envs outside ``idx`` keep theirs."""
         if seed is None:
@@ -129,7 +129,7 @@ class BearingPreloadVectorEnv(VectorEnv):
             if seeds[b] is not None or self._rngs[b] is None:
                 self._rngs[b], self._rng_seeds[b] = seeding.np_random(seeds[b])
 
-    def _reset_envs(self, idx: np.ndarray, options: dict | None) -> tuple[np.ndarray, list[dict]]:
+    def reset_some(self, idx: np.ndarray, options: dict | None) -> tuple[np.ndarray, list[dict]]:
         """Reset envs ``idx`` (their settled starts run together); returns their first
         observations and reset infos."""
         rngs = [self._rng(b) for b in idx]
@@ -139,7 +139,7 @@ class BearingPreloadVectorEnv(VectorEnv):
             self._frame_history[b].clear()
             self._frame_poincare[b].clear()
             self._frame_orbit[b] = None
-        batch = self._batch
+        batch = self.batch
         m = measurement(batch, idx, batch.preload[idx].copy(), np.full(len(idx), self.episode_steps),
                         batch.start_failed[idx].copy())
         return observe(self, m, idx, rngs), [reset_info(batch, int(b), m, i) for i, b in enumerate(idx)]
@@ -147,11 +147,11 @@ class BearingPreloadVectorEnv(VectorEnv):
     @property
     def scenarios(self) -> tuple:
         """The scenario each env is running (None before its first reset)."""
-        return tuple(self._batch.scenarios)
+        return tuple(self.batch.scenarios)
 
     def operating_points(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
         """(shaft speed rpm, radial load N, clearance m) of every env now: what an oracle is told."""
-        b = self._batch
+        b = self.batch
         clearance = np.array([np.nan if sc is None else sc.clearance_m for sc in b.scenarios])
         return rad_s_to_rpm(b.omega()), b.radial_load_n(), clearance
 
@@ -167,17 +167,17 @@ class BearingPreloadVectorEnv(VectorEnv):
         finally:
             numba.set_num_threads(previous)
 
-    def _step_envs(self, actions: np.ndarray, idx: np.ndarray):
+    def step_some(self, actions: np.ndarray, idx: np.ndarray):
         """Step envs ``idx`` with their actions; returns obs, reward, terminated, truncated, infos."""
         active = np.zeros(self.num_envs, dtype=bool)
         active[idx] = True
         setpoints = np.zeros(self.num_envs)
         setpoints[idx] = self.actuator.setpoint_n(actions[idx])
-        before = self._batch.preload[idx].copy()
-        self._with_threads(self._batch.step, setpoints, active)
+        before = self.batch.preload[idx].copy()
+        self._with_threads(self.batch.step, setpoints, active)
         if self.render_mode is not None:
             for b in idx:
-                orbit = record_interval(self._batch, int(b), self._frame_history[b], self._frame_poincare[b])
+                orbit = record_interval(self.batch, int(b), self._frame_history[b], self._frame_poincare[b])
                 if orbit is not None:
                     self._frame_orbit[b] = orbit
         self._elapsed[idx] += 1
@@ -209,8 +209,8 @@ class BearingPreloadVectorEnv(VectorEnv):
         opts = dict(options or {})
         mask = opts.pop("reset_mask", None)
         idx = np.arange(self.num_envs) if mask is None else self._mask_indices(mask)
-        self._seed(seed, idx)
-        obs_part, env_infos = self._reset_envs(idx, opts)
+        self.seed_some(seed, idx)
+        obs_part, env_infos = self.reset_some(idx, opts)
         if not self._started:
             self._obs = np.zeros((self.num_envs,) + self.single_observation_space.shape, dtype=np.float32)
             self._started = True
@@ -232,11 +232,11 @@ class BearingPreloadVectorEnv(VectorEnv):
         reset_idx = np.flatnonzero(self._autoreset)
         step_idx = np.flatnonzero(~self._autoreset)
         if len(reset_idx):
-            self._obs[reset_idx], env_infos = self._reset_envs(reset_idx, None)
+            self._obs[reset_idx], env_infos = self.reset_some(reset_idx, None)
             for b, info in zip(reset_idx, env_infos):
                 infos = self._add_info(infos, info, int(b))
         if len(step_idx):
-            obs, rew, term, trunc, env_infos = self._step_envs(a, step_idx)
+            obs, rew, term, trunc, env_infos = self.step_some(a, step_idx)
             self._obs[step_idx] = obs
             rewards[step_idx] = rew
             terminations[step_idx] = term

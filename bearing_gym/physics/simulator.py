@@ -130,6 +130,13 @@ class Simulator:
         return 2.0 * zeta * np.sqrt(k_diag * mass)
 
     @property
+    def packed_params(self):
+        """The parameters as the kernels take them (:class:`~bearing_gym.physics.layout.PackedParams`,
+        with this simulator's damping): for code that runs the kernels on its own arrays, such as
+        the environment's batch. Treat as read-only; copy before changing."""
+        return self._packed
+
+    @property
     def damping_coefficients(self) -> np.ndarray:
         """(5,) viscous damping of x, y, z (N s/m) and theta_x, theta_y (N m s/rad)."""
         return self._packed.prm[I_CX:I_CX + 5].copy()

@@ -377,10 +377,9 @@ the races.
     add(f"""
 ## Notes for the physics maintainers
 
-* There is no switch for the high-speed terms; claim 2 patches `Simulator._packed` and
-  `Simulator._equilibrium` (m_b, I_b set to 0). A public option (for example
-  `BearingParams(centrifugal=True, gyroscopic=True)`, packed as factors on F_e in eq 29 and M_g in
-  eq 30) would make this clean.
+* The high-speed terms are switched by the parameters `include_centrifugal` and
+  `include_gyroscopic` (packed as the ball mass and inertia the kernels use in eqs 29-30); claim 2
+  runs with both off for the "without high-speed terms" model.
 * With e = 2e-5 m at 20,000 rpm and 800 N the unbalance ({unb(20000, ecc):.0f} N) exceeds the preload and
   the inner contacts are all lost at times; the model then relies on the "cage coasts" convention
   of eq 7 and on the free-ball placement of the ball solver. That is a property of the paper's

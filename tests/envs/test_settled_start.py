@@ -10,6 +10,8 @@ from bearing_gym.envs.features import F_QPI
 
 # period-1 operating points (no radial load / paper; radial load with clearance and waviness)
 POINTS = [Scenario(initial_preload_n=1000.0),
+          # a large unbalance at 25,000 rpm: the start rings for ~15 intervals before it settles
+          Scenario(speed_profile=((0.0, 25000.0),), eccentricity_m=3e-5, initial_preload_n=800.0),
           Scenario(initial_preload_n=800.0),
           Scenario(speed_profile=((0.0, 15000.0),), radial_load_profile=((0.0, 200.0),), clearance_m=10e-6,
                    waviness_amplitude_m=0.5e-6, initial_preload_n=1400.0)]
@@ -32,9 +34,13 @@ def run_points(steps):
 
 def test_first_interval_is_settled_at_period_1_points():
     qpi, rew = run_points(15)
-    # without the settled start the first interval reads 0.5-1.0 at every preload (see below)
-    assert np.all(qpi[0] < QPI_THRESHOLD / 10)
-    assert np.all(qpi[0] < 0.02)
+    # without the settled start the first interval reads 0.5-1.0 at every preload (see below);
+    # settled, it is period-1 from the first interval on
+    assert np.all(qpi[0] <= QPI_THRESHOLD)
+    # ... and far below the threshold except after the slow transient of a large unbalance
+    # (index 0.07 there, 0.02 in the second interval)
+    ordinary = np.array([True, False, True, True])
+    assert np.all(qpi[0][ordinary] < QPI_THRESHOLD / 10)
     # the reward of the first interval is already the steady one (hold the preload: same terms)
     np.testing.assert_allclose(rew[0], rew[14], rtol=1e-6)
 
@@ -50,6 +56,8 @@ def test_cached_start_is_bit_identical_to_a_fresh_one():
     a = BearingPreloadVectorEnv(num_envs=1, tier="paper")
     o1, _ = a.reset(seed=0)
     o2, _ = a.reset(seed=0)                      # from the cache
+    from bearing_gym.envs import core
+    core._SETTLED.clear()                        # the cache is per process: empty it
     b = BearingPreloadVectorEnv(num_envs=1, tier="paper")
     o3, _ = b.reset(seed=0)                      # a fresh settle
     np.testing.assert_array_equal(o1, o2)

@@ -121,13 +121,13 @@ def test_num_threads_applies_to_the_kernel_call_only():
     v = BearingPreloadVectorEnv(num_envs=2, scenario="paper", num_threads=1)
     v.reset(seed=0)
     seen = []
-    kernel_step = v._batch.step
+    kernel_step = v.batch.step
 
     def spy(*args):
         seen.append(numba.get_num_threads())
         return kernel_step(*args)
 
-    v._batch.step = spy
+    v.batch.step = spy
     callers = numba.get_num_threads()
     numba.set_num_threads(2)
     try:
