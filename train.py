@@ -1,6 +1,6 @@
 """Train a preload controller with Stable-Baselines3 and evaluate it against the baselines.
 
-    python train.py                          # the main job: PPO, ~15 min on 2 cores, then evaluation
+    python train.py                          # the main job: PPO 36k steps, then evaluation (README: time)
     python train.py --algo sac --timesteps 200000 --n-envs 4 --seed 1 --out runs/sac
     python train.py --out runs/ppo --resume  # continue from the last checkpoint in runs/ppo
 
