@@ -67,6 +67,7 @@ import numba  # noqa: E402
 
 import bearing_gym  # noqa: E402
 from bearing_gym.analysis.signals import peak_to_peak  # noqa: E402
+from bearing_gym.benchmark import EPISODE_STEPS  # noqa: E402
 from bearing_gym.physics import Simulator  # noqa: E402
 from bearing_gym.physics import ball as ball_mod  # noqa: E402
 from bearing_gym.physics import rotor as rotor_mod  # noqa: E402
@@ -90,12 +91,12 @@ TARGETS = {
 SETTINGS = {
     "full": dict(integrator=bench_integrator.SETTINGS["full"], conv_t_end_s=0.15, conv_from_s=0.10,
                  env_control_dt_s=0.01, env_steps=60, env_repeats=3, rss_control_dt_s=0.001,
-                 rss_steps=100_000, rss_warmup_steps=1000, rss_samples=10, rss_episode_steps=250,
+                 rss_steps=100_000, rss_warmup_steps=1000, rss_samples=10, rss_episode_steps=EPISODE_STEPS,
                  subprocess_repeats=3),
     "quick": dict(integrator=bench_integrator.SETTINGS["quick"], conv_t_end_s=0.15,
                   conv_from_s=0.10, env_control_dt_s=0.01, env_steps=10, env_repeats=2,
                   rss_control_dt_s=0.001, rss_steps=5_000, rss_warmup_steps=200, rss_samples=5,
-                  rss_episode_steps=250, subprocess_repeats=1),
+                  rss_episode_steps=EPISODE_STEPS, subprocess_repeats=1),
 }
 
 
@@ -194,7 +195,7 @@ def env_step_profile(cdt: float, steps: int, repeats: int) -> dict:
     env.reset(seed=0)
     a = np.array([0.0], dtype=np.float32)
     env.step(a)
-    b = env._batch
+    b = env.batch
     sp = b.setpoint.copy()
     active = np.array([True])
     scal0, bo0 = b.scal.copy(), b.ball_out.copy()
