@@ -274,7 +274,7 @@ def write_report(results: list[EvalResult], out_dir: Path, header: str = "",
         w.writerow(["episode", "seed"] + [r.name for r in results])
         for i in range(min(len(r.returns) for r in results)):
             w.writerow([i, "" if first_seed is None else first_seed + i] + [repr(float(r.returns[i])) for r in results])
-    lines = [f"# Evaluation\n", header, "",
+    lines = ["# Evaluation\n", header, "",
              "| policy | episodes | mean return | 95 % CI | vibration | heat | fatigue | actuation "
              "| time quasi-periodic | mean preload (N) | terminated early |",
              "|---|---|---|---|---|---|---|---|---|---|---|"]

@@ -23,7 +23,7 @@ from .features import F_QPI, N_FEATURES
 from bearing_gym.params import BearingParams, RaceWaviness, Waviness, default_params
 from bearing_gym.physics import Simulator
 from bearing_gym.physics.ball import N_BALL_OUT
-from bearing_gym.physics.layout import I_DT, N_PRM
+from bearing_gym.physics.layout import N_PRM
 from bearing_gym.physics.rotor import N_REC, N_SCAL
 
 from .actuator import PreloadActuator

@@ -59,7 +59,6 @@ Why these weights (nothing here is fitted to a policy):
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import Protocol, runtime_checkable
 
