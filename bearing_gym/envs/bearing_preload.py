@@ -84,7 +84,7 @@ class BearingPreloadEnv(gym.Env):
     The scenario is drawn by the tier (or pinned by ``reset(options=...)``). The rotor starts
     from the static equilibrium of the initial operating point and initial preload, and
     ``reset`` runs it until it has settled (:meth:`bearing_gym.envs.core.PreloadBatch.settle`:
-    0.66 s of simulated warm-up, with a damping aid where the motion is period-1; cached per
+    1.46 s of simulated warm-up, with a damping aid where the motion is period-1; cached per
     operating point): the first observation and the first reward describe steady motion, not
     the ringing of the start. The reset info has the settled interval's ``qpi`` and
     ``nonsync_rms_um``.
@@ -111,6 +111,9 @@ class BearingPreloadEnv(gym.Env):
       ``clearance_m``, ``initial_preload_n``, ... or ``scenario=Scenario(...)``); an unknown
       option raises ``ValueError``.
     * ``params``: base :class:`~bearing_gym.params.BearingParams` (bearing, rotor, damping, dt).
+      The rotor damping is one set of coefficients for every episode and preload (a property
+      of the spindle): ``params.damping.coefficients`` if given, else the 2 % ratio referred to
+      the stiffness at the base operating point (:func:`bearing_gym.envs.core.rotor_damping`).
     * ``control_dt_s``, ``episode_steps``: the control interval and the horizon that places the
       scenario's events in time (keep them at the defaults for the benchmark).
     * ``render_mode``: ``"rgb_array"``: ``render()`` returns the frame (H x W x 3 uint8);
@@ -138,8 +141,9 @@ class BearingPreloadEnv(gym.Env):
       and fatigue on the envelope's scale; a termination costs at least any continuation), the
       start is settled, difficulty tiers (``tier=``, default ``"transient"``) replace the
       ``"randomized"`` scenario, the horizon is 150 intervals in registration, training and
-      evaluation alike, the observation has the non-synchronous RMS (15 features) and the parts
-      are swappable objects.
+      evaluation alike, the observation has the non-synchronous RMS (15 features), the parts
+      are swappable objects and the rotor damping is fixed by the base parameters (it was
+      referred to each episode's initial operating point).
     * v0 (first cut): 14 features, reward -(2 qpi + 0.3 heat + 0.1 fatigue + 0.1 |Delta P|),
       start at the static equilibrium, 250-interval registration horizon.
     """
