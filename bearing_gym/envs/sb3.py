@@ -34,9 +34,16 @@ class BearingPreloadSB3VecEnv(_SB3VecEnv):
     def reset(self):
         self.venv.seed_some(list(self._seeds))
         obs = np.zeros((self.num_envs,) + self.observation_space.shape, dtype=np.float32)
-        for b in range(self.num_envs):
-            o, infos = self.venv.reset_some(np.array([b]), self._options[b] or None)
-            obs[b], self.reset_infos[b] = o[0], infos[0]
+        # envs without options settle together (one batched warm-up on all threads); an env
+        # with its own options is reset on its own
+        plain = [b for b in range(self.num_envs) if not self._options[b]]
+        groups = ([np.array(plain)] if plain else []) + [
+            np.array([b]) for b in range(self.num_envs) if self._options[b]]
+        for idx in groups:
+            o, infos = self.venv.reset_some(idx, self._options[int(idx[0])] or None)
+            obs[idx] = o
+            for b, info in zip(idx, infos):
+                self.reset_infos[int(b)] = info
         self._reset_seeds()        # seeds and options are used once, as in SB3's own VecEnvs
         self._reset_options()
         self._started = True
@@ -54,10 +61,16 @@ class BearingPreloadSB3VecEnv(_SB3VecEnv):
         dones = term | trunc
         for b in idx:
             infos[b]["TimeLimit.truncated"] = bool(trunc[b] and not term[b])
-        for b in np.flatnonzero(dones):
-            infos[b]["terminal_observation"] = obs[b].copy()
-            o, reset_infos = self.venv.reset_some(np.array([b]), None)
-            obs[b], self.reset_infos[b] = o[0], reset_infos[0]
+        ended = np.flatnonzero(dones)
+        if len(ended):
+            for b in ended:
+                infos[b]["terminal_observation"] = obs[b].copy()
+            # the envs that ended in this step settle together (with equal-length episodes they
+            # all end in the same step): one batched warm-up on all threads, not one per env
+            o, reset_infos = self.venv.reset_some(ended, None)
+            obs[ended] = o
+            for b, info in zip(ended, reset_infos):
+                self.reset_infos[int(b)] = info
         return obs, rew.astype(np.float32), dones, infos
 
     def get_images(self):
