@@ -28,8 +28,6 @@ Times are wall-clock ``time.perf_counter``; each timing is repeated and the mini
 
 from __future__ import annotations
 
-import argparse
-import json
 import os
 import platform
 import statistics
@@ -52,6 +50,7 @@ from bearing_gym.physics import ball as ball_mod  # noqa: E402
 from bearing_gym.physics import rotor as rotor_mod  # noqa: E402
 from bearing_gym.physics.bearing import bearing_force  # noqa: E402
 
+import bench_cli  # noqa: E402
 from numpy_reference import NumpyModel, ball_state_from_arrays, state_from_simulator  # noqa: E402
 
 DTS_US = (1.0, 2.0, 5.0, 10.0)
@@ -356,15 +355,8 @@ def print_table(r: dict) -> None:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--json", action="store_true", help="print one JSON object instead of the table")
-    ap.add_argument("--quick", action="store_true", help="shorter runs, same keys")
-    a = ap.parse_args(argv)
-    r = run(a.quick)
-    if a.json:
-        print(json.dumps(r, indent=2))
-    else:
-        print_table(r)
+    a = bench_cli.parser(__doc__, "shorter runs, same keys", out=False).parse_args(argv)
+    bench_cli.emit(run(a.quick), a, print_table)
     return 0
 
 

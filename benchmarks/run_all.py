@@ -48,7 +48,6 @@ start and end is printed).
 
 from __future__ import annotations
 
-import argparse
 import gc
 import json
 import math
@@ -72,6 +71,7 @@ from bearing_gym.physics import Simulator  # noqa: E402
 from bearing_gym.physics import ball as ball_mod  # noqa: E402
 from bearing_gym.physics import rotor as rotor_mod  # noqa: E402
 
+import bench_cli  # noqa: E402
 import bench_env  # noqa: E402
 import bench_integrator  # noqa: E402
 
@@ -432,18 +432,8 @@ def print_table(r: dict) -> None:
 
 
 def main(argv=None) -> int:
-    ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
-    ap.add_argument("--json", action="store_true", help="print one JSON object instead of the table")
-    ap.add_argument("--quick", action="store_true", help="shorter runs (< 1 min), same keys")
-    ap.add_argument("--out", metavar="FILE", help="also write the JSON object to FILE")
-    a = ap.parse_args(argv)
-    r = run(a.quick)
-    if a.out:
-        Path(a.out).write_text(json.dumps(r, indent=2) + "\n")
-    if a.json:
-        print(json.dumps(r, indent=2))
-    else:
-        print_table(r)
+    a = bench_cli.parser(__doc__, "shorter runs (< 1 min), same keys").parse_args(argv)
+    bench_cli.emit(run(a.quick), a, print_table)
     return 0
 
 

@@ -1,0 +1,604 @@
+"""Training throughput: train.py's PPO and SAC, the evaluation, and where the time goes.
+
+    python benchmarks/bench_training.py                      # table (tens of minutes on 2 cores)
+    python benchmarks/bench_training.py --json               # one JSON object instead of the table
+    python benchmarks/bench_training.py --quick              # same keys, a shrunken smoke run
+    python benchmarks/bench_training.py --baseline ../base   # side by side with another checkout
+    python benchmarks/bench_training.py --only ppo,eval      # some of the three measurements
+
+Every measurement runs in a fresh interpreter (``--worker``) with the measured tree first on
+``sys.path`` (``PYTHONPATH=TREE``, cwd TREE). The worker uses only ``train.make_env``,
+``train.hyperparams`` and ``agents.evaluate``, so ``--baseline DIR`` can be any checkout (e.g.
+``git worktree add ../base <commit>``) without this file: its measurements run from this
+script, alternately with the current tree's (the order swapped every repeat), each tree with its
+own numba cache (``--baseline-cache``, default ``DIR/.numba-cache``), and the best of
+``--repeats`` is reported for each.
+
+Measured (the current tree's best run; with a baseline also ``<key>_baseline`` and
+``<key>_ratio`` = current / baseline for the three throughputs):
+
+``ppo_steps_per_s``, ``sac_steps_per_s``
+    env steps per second of ``model.learn`` with what train.py builds: ``train.make_env(2, 0,
+    EPISODE_STEPS, DEFAULT_TIER)`` (the registered env's tier and horizon; 2 envs stepped by the
+    batched kernel on 2 numba threads) in ``VecNormalize(norm_obs, norm_reward, clip_obs=10)``,
+    ``PPO``/``SAC("MlpPolicy", seed=0, device="cpu", **train.hyperparams(algo))``, tensorboard
+    logging when tensorboard is installed, ``torch.set_num_threads(1)``. A warm-up
+    ``learn(--warmup-steps)`` (kernel compile or cache load, first resets; for SAC it covers
+    ``learning_starts`` = 1000, so the timed window has its gradient steps) precedes the timed
+    ``learn(--steps, reset_num_timesteps=False)``; steps are counted by ``model.num_timesteps``
+    (PPO rounds up to whole rollouts of 512). train.py's validation and checkpoint callbacks are
+    not run (validation is an evaluation: see the next key).
+``eval_episodes_per_s``, ``eval_wall_s_per_100_episodes``
+    ``agents.evaluate.evaluate(None, episodes=--eval-episodes)`` on the held-out test seeds: the
+    scripted baselines and the constant-preload sweep (11 policies x K episodes of
+    EPISODE_STEPS steps, batched through the native vector env), report files written to a
+    temporary directory; episodes = policies x K, counted at ``run_policies``. After a warm-up
+    ``run_policies`` on other seeds (kernel load). train.py's final evaluation also runs the
+    trained policy (one more policy, same batch).
+``share_{ppo,sac}_<part>``
+    shares of the timed ``learn``'s wall time, from cheap timers in the timed run itself:
+    ``physics_step`` the numba kernel called for env steps, ``physics_settle`` the kernel called
+    by the settled start of each reset (``PreloadBatch._kernel`` inside ``settle``), both less
+    their ``features`` (``window_features`` runs inside the kernel: timed afterwards on a
+    recorded window, at full and at 1/20 length, applied to every kernel call's rows, divided
+    by the threads that share the call); ``reset_load`` the static equilibrium of each new
+    scenario (``PreloadBatch.load``); ``bearing_gym_python`` the rest of the time inside the
+    innermost VecEnv's ``step_wait``/``reset``; the time outside it is split into ``torch``,
+    ``sb3`` and ``other`` in the proportions a cProfile'd ``learn(--profile-steps)`` after the
+    timed one gives (functions by file; tensor arithmetic written as operators in SB3's code
+    runs no torch function cProfile can see and counts as ``sb3``; numpy and the standard
+    library count as their caller). The kernel hooks use ``bearing_gym.envs.core.PreloadBatch``;
+    a tree without it reports null shares (the throughputs do not depend on them).
+``share_eval_{physics_step,physics_settle,reset_load}``
+    the same kernel and static-equilibrium timers over the timed evaluation.
+
+Times are wall-clock and other load only adds time: the 1-min load average at the start and end
+of every measurement is printed, and the best of the repeats is reported. ``--quick`` shrinks
+everything (PPO ``n_steps`` 64, SAC ``learning_starts`` 64, 10-step evaluation episodes, one
+repeat): a smoke run whose numbers are not comparable with a full run.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import os
+import shutil
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+TREE = HERE.parent
+sys.path.insert(0, str(HERE))
+
+import bench_cli  # noqa: E402
+
+KINDS = ("ppo", "sac", "eval")
+PARTS = ("physics_step", "physics_settle", "features", "reset_load", "bearing_gym_python",
+         "torch", "sb3", "other")
+PART_LABELS = {"physics_step": "physics kernel, env steps", "physics_settle": "physics kernel, settled start",
+               "features": "window features (estimate)", "reset_load": "reset: static equilibrium",
+               "bearing_gym_python": "bearing_gym Python", "torch": "torch", "sb3": "SB3",
+               "other": "other"}
+EVAL_PARTS = ("physics_step", "physics_settle", "reset_load")
+THROUGHPUT = {"ppo": "ppo_steps_per_s", "sac": "sac_steps_per_s", "eval": "eval_episodes_per_s"}
+
+SETTINGS = {
+    "full": dict(warmup_steps=1000, steps=5000, profile_steps=2000, eval_episodes=20,
+                 eval_episode_steps=None, repeats=2, overrides={}),
+    "quick": dict(warmup_steps=256, steps=128, profile_steps=64, eval_episodes=2,
+                  eval_episode_steps=10, repeats=1,
+                  overrides={"ppo": {"n_steps": 64}, "sac": {"learning_starts": 64}}),
+}
+
+
+# =============================================================================================
+# worker: runs in a fresh interpreter with the measured tree first on sys.path
+# =============================================================================================
+class _Timers:
+    """Wall time in the env's kernel calls (steps / settled start), in ``PreloadBatch.load`` and
+    in the innermost VecEnv, with the rows each kernel call recorded (for the features)."""
+
+    def __init__(self):
+        self.hooked = False
+        self.reset()
+
+    def reset(self):
+        self.s = dict.fromkeys(("kernel_step", "kernel_settle", "load", "env"), 0.0)
+        self.calls = {"step": [], "settle": []}     # per kernel call: (active envs, rows, threads)
+        self.in_settle = 0
+
+    def hook_physics(self) -> bool:
+        try:
+            import numba
+
+            from bearing_gym.envs.core import PreloadBatch
+        except ImportError:
+            return False
+        if not all(callable(getattr(PreloadBatch, n, None)) for n in ("_kernel", "settle", "load")):
+            return False
+        timers, kernel, settle, load = self, PreloadBatch._kernel, PreloadBatch.settle, PreloadBatch.load
+
+        def timed_kernel(batch, setpoints, active, *args, **kw):
+            t0 = time.perf_counter()
+            kernel(batch, setpoints, active, *args, **kw)
+            which = "settle" if timers.in_settle else "step"
+            timers.s["kernel_" + which] += time.perf_counter() - t0
+            try:
+                rows = batch.rows[active]
+                timers.calls[which].append((len(rows), int(rows.sum()), numba.get_num_threads()))
+            except (AttributeError, IndexError, TypeError):
+                pass
+
+        def timed_settle(batch, *args, **kw):
+            timers.in_settle += 1
+            try:
+                return settle(batch, *args, **kw)
+            finally:
+                timers.in_settle -= 1
+
+        def timed_load(batch, *args, **kw):
+            t0 = time.perf_counter()
+            try:
+                return load(batch, *args, **kw)
+            finally:
+                timers.s["load"] += time.perf_counter() - t0
+
+        PreloadBatch._kernel, PreloadBatch.settle, PreloadBatch.load = timed_kernel, timed_settle, timed_load
+        self.hooked = True
+        return True
+
+    def hook_vec_env(self, venv) -> None:
+        """Time the innermost SB3 VecEnv's step_wait and reset (instance attributes)."""
+        from stable_baselines3.common.vec_env import VecEnvWrapper
+        inner = venv
+        while isinstance(inner, VecEnvWrapper):
+            inner = inner.venv
+        for name in ("step_wait", "reset"):
+            inner.__dict__[name] = self._timed(getattr(inner, name))
+        self.inner = inner
+
+    def _timed(self, fn):
+        def wrapper(*args, **kw):
+            t0 = time.perf_counter()
+            try:
+                return fn(*args, **kw)
+            finally:
+                self.s["env"] += time.perf_counter() - t0
+        return wrapper
+
+    def features_s(self, cost) -> dict:
+        """Estimated wall time of the window features in the kernel calls: ``cost(rows)`` per
+        window; the envs of a call share its threads."""
+        if cost is None:
+            return None
+        out = {}
+        for which, calls in self.calls.items():
+            total = 0.0
+            for n, rows, threads in calls:
+                if n:
+                    total += (n * cost[0] + rows * cost[1]) / max(1, min(n, threads))
+            out[which] = total
+        return out
+
+
+def _feature_cost(venv_inner, repeats: int = 200):
+    """(seconds per window, seconds per row) of ``window_features``, fitted on env 0's last
+    recorded window at its full length and at 1/20 of it (best of ``repeats`` each)."""
+    try:
+        import numpy as np
+
+        from bearing_gym.envs.features import N_FEATURES, window_features
+        batch = venv_inner.venv.batch
+        rec, rows = batch.rec[0], int(batch.rows[0])
+    except (ImportError, AttributeError):
+        return None
+    if rows < 40:
+        return None
+    out = np.zeros(N_FEATURES)
+    times = {}
+    for r in (rows, rows // 20):
+        window_features(rec, r, out)
+        best = float("inf")
+        for _ in range(repeats):
+            t0 = time.perf_counter()
+            window_features(rec, r, out)
+            best = min(best, time.perf_counter() - t0)
+        times[r] = best
+    per_row = max(0.0, (times[rows] - times[rows // 20]) / (rows - rows // 20))
+    return max(0.0, times[rows] - per_row * rows), per_row
+
+
+def _profile_categories(prof, tree: str) -> dict:
+    """Seconds per category (torch, sb3, bearing_gym, other) of a cProfile run: functions by
+    their file; builtins by name if torch's, else, like functions of numpy, gymnasium and the
+    standard library, by their callers (in proportion to the time each caller spent in them)."""
+    import pstats
+    stats = pstats.Stats(prof).stats
+    tree = os.path.realpath(tree) + os.sep
+
+    def own(key):
+        path, _, name = key
+        if path == "~":
+            return "torch" if "torch" in name else None
+        if f"{os.sep}torch{os.sep}" in path:
+            return "torch"
+        if f"{os.sep}stable_baselines3{os.sep}" in path:
+            return "sb3"
+        if os.path.realpath(path).startswith(tree + "bearing_gym" + os.sep):
+            return "bearing_gym"
+        return None
+
+    memo: dict = {}
+
+    def split(key, depth=0):
+        cat = own(key)
+        if cat:
+            return {cat: 1.0}
+        if key in memo:
+            return memo[key]
+        memo[key] = {"other": 1.0}                  # a cycle or too deep: other
+        callers = stats.get(key, (0, 0, 0, 0, {}))[4]
+        total = sum(v[2] for v in callers.values())
+        if depth > 30 or total <= 0:
+            return memo[key]
+        acc: dict = {}
+        for caller, v in callers.items():
+            for c, f in split(caller, depth + 1).items():
+                acc[c] = acc.get(c, 0.0) + f * v[2] / total
+        memo[key] = acc
+        return acc
+
+    out = {"torch": 0.0, "sb3": 0.0, "bearing_gym": 0.0, "other": 0.0}
+    for key, (_, _, tt, _, _) in stats.items():
+        for c, f in split(key).items():
+            out[c] += tt * f
+    return out
+
+
+def _shares(wall: float, timers: _Timers, feats: dict, outside_split: dict | None) -> dict:
+    """The timed run's wall time split into PARTS (fractions; None where not measurable)."""
+    s = timers.s
+    out = dict.fromkeys(PARTS)
+    if timers.hooked:
+        f = feats or {"step": 0.0, "settle": 0.0}          # not estimated: left in the kernel
+        out["features"] = (f["step"] + f["settle"]) / wall if feats else None
+        out["physics_step"] = (s["kernel_step"] - f["step"]) / wall
+        out["physics_settle"] = (s["kernel_settle"] - f["settle"]) / wall
+        out["reset_load"] = s["load"] / wall
+        out["bearing_gym_python"] = (s["env"] - s["kernel_step"] - s["kernel_settle"] - s["load"]) / wall
+    outside = (wall - s["env"]) / wall
+    if outside_split:
+        total = sum(outside_split[c] for c in ("torch", "sb3", "other"))
+        for c in ("torch", "sb3", "other"):
+            out[c] = outside * outside_split[c] / total if total > 0 else None
+    return out
+
+
+def _train_measurement(spec: dict) -> dict:
+    import cProfile
+
+    import torch
+    from stable_baselines3 import PPO, SAC
+    from stable_baselines3.common.vec_env import VecNormalize
+
+    import train
+    from bearing_gym.benchmark import DEFAULT_TIER, EPISODE_STEPS
+
+    torch.set_num_threads(1)                     # as train.py
+    algo = spec["kind"]
+    timers = _Timers()
+    env = train.make_env(n_envs=2, seed=0, episode_steps=EPISODE_STEPS, tier=DEFAULT_TIER)
+    timers.hook_vec_env(env)
+    env = VecNormalize(env, norm_obs=True, norm_reward=True, clip_obs=10.0)
+    try:
+        import tensorboard  # noqa: F401
+        tb = tempfile.mkdtemp(prefix="bench_training_tb_")
+    except ImportError:
+        tb = None
+    hp = {**train.hyperparams(algo), **spec["overrides"].get(algo, {})}
+    model = {"ppo": PPO, "sac": SAC}[algo]("MlpPolicy", env, seed=0, device="cpu", verbose=0,
+                                            tensorboard_log=tb, **hp)
+    t0 = time.perf_counter()
+    model.learn(total_timesteps=spec["warmup_steps"], progress_bar=False)
+    warmup_s = time.perf_counter() - t0
+    timers.hook_physics()
+    timers.reset()
+    n0 = model.num_timesteps
+    load_start = os.getloadavg()[0]
+    t0 = time.perf_counter()
+    model.learn(total_timesteps=spec["steps"], reset_num_timesteps=False, progress_bar=False)
+    wall = time.perf_counter() - t0
+    load_end = os.getloadavg()[0]
+    steps = model.num_timesteps - n0
+    timed = dict(timers.s)
+    calls = {k: len(v) for k, v in timers.calls.items()}
+    feats = timers.features_s(_feature_cost(timers.inner))
+    outside_split, profile = None, None
+    if spec["profile_steps"] > 0:
+        timers.reset()
+        prof = cProfile.Profile()
+        n1 = model.num_timesteps
+        t1 = time.perf_counter()
+        prof.enable()
+        model.learn(total_timesteps=spec["profile_steps"], reset_num_timesteps=False, progress_bar=False)
+        prof.disable()
+        pwall = time.perf_counter() - t1
+        outside_split = _profile_categories(prof, spec["tree"])
+        profile = {"steps": model.num_timesteps - n1, "wall_s": pwall,
+                   "steps_per_s": (model.num_timesteps - n1) / pwall, "env_s": timers.s["env"],
+                   "category_s": outside_split}
+    timers.s = timed
+    if tb:
+        shutil.rmtree(tb, ignore_errors=True)
+    return {"steps": int(steps), "wall_s": wall, "steps_per_s": steps / wall, "warmup_s": warmup_s,
+            "warmup_steps": int(n0), "load_1min_timed_start": load_start, "load_1min_timed_end": load_end,
+            "timers_s": timed, "kernel_calls": calls, "features_s": feats,
+            "shares": _shares(wall, timers, feats, outside_split), "profile": profile,
+            "hyperparams": {k: repr(v) for k, v in hp.items()}}
+
+
+def _eval_measurement(spec: dict) -> dict:
+    import agents.evaluate as ev
+    from agents.policies import ConstantPreload
+    from bearing_gym.benchmark import EPISODE_STEPS
+
+    episode_steps = spec["eval_episode_steps"] or EPISODE_STEPS
+    t0 = time.perf_counter()        # kernel load on seeds that are not the test seeds
+    ev.run_policies([ConstantPreload(800.0)], 2, 10_000_000, 2)
+    warmup_s = time.perf_counter() - t0
+    timers = _Timers()
+    timers.hook_physics()
+    counted = {"episodes": 0, "run_policies_s": 0.0}
+    run_policies = ev.run_policies
+
+    def counting(policies, episodes, *args, **kw):
+        t = time.perf_counter()
+        try:
+            return run_policies(policies, episodes, *args, **kw)
+        finally:
+            counted["episodes"] += len(policies) * episodes
+            counted["run_policies_s"] += time.perf_counter() - t
+
+    ev.run_policies = counting
+    load_start = os.getloadavg()[0]
+    with tempfile.TemporaryDirectory(prefix="bench_training_eval_") as out:
+        t0 = time.perf_counter()
+        results = ev.evaluate(None, episodes=spec["eval_episodes"], seed=ev.TEST_SEED,
+                              episode_steps=episode_steps, out_dir=out, verbose=False)
+        wall = time.perf_counter() - t0
+    load_end = os.getloadavg()[0]
+    episodes = counted["episodes"] or (len(results) - 2) * spec["eval_episodes"]
+    s = timers.s
+    return {"episodes": int(episodes), "episode_steps": episode_steps, "wall_s": wall,
+            "episodes_per_s": episodes / wall, "wall_s_per_100_episodes": 100.0 * wall / episodes,
+            "warmup_s": warmup_s, "run_policies_s": counted["run_policies_s"],
+            "load_1min_timed_start": load_start, "load_1min_timed_end": load_end,
+            "timers_s": dict(s),
+            "shares": {part: s[key] / wall if timers.hooked else None for part, key in
+                       zip(EVAL_PARTS, ("kernel_step", "kernel_settle", "load"))}}
+
+
+def worker(spec: dict) -> dict:
+    tree = os.path.realpath(spec["tree"])
+    sys.path[:] = [tree] + [p for p in sys.path if os.path.realpath(p or ".") not in (str(HERE), tree)]
+    os.chdir(tree)
+    load0 = os.getloadavg()[0]
+    t0 = time.perf_counter()
+    import bearing_gym
+    import numba
+    import stable_baselines3
+    import torch
+
+    import agents
+    import train
+    for mod in (bearing_gym, agents, train):        # the tree measured, not an installed copy
+        if not os.path.realpath(mod.__file__).startswith(tree + os.sep):
+            raise RuntimeError(f"{mod.__name__} imported from {mod.__file__}, not from {tree}")
+    res = (_eval_measurement if spec["kind"] == "eval" else _train_measurement)(spec)
+    res.update(kind=spec["kind"], tree=tree, load_1min_start=load0, load_1min_end=os.getloadavg()[0],
+               process_wall_s=time.perf_counter() - t0, numba_cache_dir=bearing_gym.NUMBA_CACHE_DIR,
+               versions={"torch": torch.__version__, "stable_baselines3": stable_baselines3.__version__,
+                         "numba": numba.__version__, "numba_threads": numba.config.NUMBA_NUM_THREADS})
+    return res
+
+
+# =============================================================================================
+# driver
+# =============================================================================================
+def tree_info(path: Path) -> dict:
+    def git(*args):
+        r = subprocess.run(["git", "-C", str(path), *args], capture_output=True, text=True, timeout=10)
+        return r.stdout.strip() if r.returncode == 0 else None
+    changed = git("status", "--porcelain", "--untracked-files=no")
+    return {"path": str(path), "commit": git("rev-parse", "--short", "HEAD"),
+            "uncommitted_changes": None if changed is None else bool(changed)}
+
+
+def machine() -> dict:
+    cpu = "unknown"
+    try:
+        cpu = next((ln.split(":", 1)[1].strip() for ln in Path("/proc/cpuinfo").read_text().splitlines()
+                    if ln.startswith("model name")), cpu)
+    except OSError:
+        pass
+    import platform
+    return {"cpu_model": cpu, "logical_cpus": os.cpu_count(), "python": platform.python_version(),
+            "platform": platform.platform()}
+
+
+def run_worker(tree: Path, cache: str | None, spec: dict) -> dict:
+    env = dict(os.environ, PYTHONPATH=str(tree))
+    if cache:
+        env["NUMBA_CACHE_DIR"] = cache
+    with tempfile.TemporaryDirectory(prefix="bench_training_") as tmp:
+        out = Path(tmp) / "result.json"
+        spec = dict(spec, tree=str(tree), out=str(out))
+        r = subprocess.run([sys.executable, str(Path(__file__).resolve()), "--worker", json.dumps(spec)],
+                           cwd=str(tree), env=env, capture_output=True, text=True)
+        if r.returncode != 0 or not out.exists():
+            raise RuntimeError(f"{spec['kind']} measurement in {tree} failed ({r.returncode}):\n{r.stderr[-3000:]}")
+        return json.loads(out.read_text())
+
+
+def run(quick: bool, baseline: Path | None, baseline_cache: str | None, repeats: int | None,
+        kinds: tuple, cfg_overrides: dict, log=None) -> dict:
+    mode = "quick" if quick else "full"
+    cfg = {**SETTINGS[mode], **{k: v for k, v in cfg_overrides.items() if v is not None}}
+    repeats = repeats or cfg["repeats"]
+    trees = {"current": (TREE, os.environ.get("NUMBA_CACHE_DIR"))}
+    if baseline is not None:
+        trees["baseline"] = (baseline, baseline_cache or str(baseline / ".numba-cache"))
+    res = {"mode": mode, "machine": machine(), "load_1min_at_start": os.getloadavg()[0],
+           "trees": {name: {**tree_info(path), "numba_cache_dir": cache} for name, (path, cache) in trees.items()},
+           "settings": {**{k: v for k, v in cfg.items() if k != "repeats"}, "repeats": repeats},
+           "runs": []}
+    t_start = time.perf_counter()
+    order = list(trees)
+    for rep in range(repeats):
+        for kind in kinds:
+            for name in (order if rep % 2 == 0 else order[::-1]):
+                spec = dict(kind=kind, profile_steps=cfg["profile_steps"] if rep == 0 else 0,
+                            **{k: cfg[k] for k in ("warmup_steps", "steps", "eval_episodes",
+                                                   "eval_episode_steps", "overrides")})
+                if log:
+                    log(f"[{time.perf_counter() - t_start:6.0f} s] repeat {rep + 1}/{repeats}: {kind} in {name} "
+                        f"(load {os.getloadavg()[0]:.2f})")
+                r = run_worker(trees[name][0], trees[name][1], spec)
+                r.update(tree_name=name, repeat=rep)
+                res["runs"].append(r)
+    res["total_wall_s"] = time.perf_counter() - t_start
+    res["load_1min_at_end"] = os.getloadavg()[0]
+    summarize(res, kinds)
+    return res
+
+
+def _best(runs: list, kind: str, tree: str):
+    rate = "episodes_per_s" if kind == "eval" else "steps_per_s"
+    mine = [r for r in runs if r["kind"] == kind and r["tree_name"] == tree]
+    return max(mine, key=lambda r: r[rate]) if mine else None
+
+
+def summarize(res: dict, kinds: tuple) -> None:
+    """Top-level keys from the runs: best of the repeats per tree, ratios, shares."""
+    runs = res["runs"]
+    for kind, key in THROUGHPUT.items():
+        for tree, suffix in (("current", ""), ("baseline", "_baseline")):
+            if tree not in res["trees"]:
+                continue
+            b = _best(runs, kind, tree)
+            res[key + suffix] = None if b is None else b["episodes_per_s" if kind == "eval" else "steps_per_s"]
+            if kind == "eval":
+                res["eval_wall_s_per_100_episodes" + suffix] = None if b is None else b["wall_s_per_100_episodes"]
+        if "baseline" in res["trees"]:
+            cur, base = res[key], res[key + "_baseline"]
+            res[key + "_ratio"] = cur / base if cur and base else None
+    for algo in ("ppo", "sac"):
+        b = _best(runs, algo, "current")
+        prof = next((r["profile"] for r in runs if r["kind"] == algo and r["tree_name"] == "current"
+                     and r.get("profile")), None)
+        for part in PARTS:
+            share = None
+            if b is not None:
+                share = b["shares"][part]
+                if share is None and part in ("torch", "sb3", "other") and prof:
+                    # the best run was not profiled: the profiled run's proportions
+                    share = _shares(b["wall_s"], _stub_timers(b), b["features_s"], prof["category_s"])[part]
+            res[f"share_{algo}_{part}"] = share
+    ev = _best(runs, "eval", "current")
+    for part in EVAL_PARTS:
+        res[f"share_eval_{part}"] = None if ev is None else ev["shares"][part]
+
+
+def _stub_timers(run: dict):
+    t = _Timers()
+    t.s, t.hooked = run["timers_s"], True
+    return t
+
+
+# ---------------------------------------------------------------------------------------------
+def _fmt(v, spec="{:.2f}"):
+    return "n/a" if v is None or (isinstance(v, float) and not math.isfinite(v)) else spec.format(v)
+
+
+def print_table(res: dict) -> None:
+    m = res["machine"]
+    print(f"machine: {m['cpu_model']}, {m['logical_cpus']} logical CPUs; Python {m['python']}; mode {res['mode']}; "
+          f"total wall time {res['total_wall_s']:.0f} s; 1-min load {res['load_1min_at_start']:.2f} at start, "
+          f"{res['load_1min_at_end']:.2f} at end")
+    for name, t in res["trees"].items():
+        print(f"{name:8s} tree: {t['path']} at {t['commit']}{' (uncommitted changes)' if t['uncommitted_changes'] else ''}")
+    s = res["settings"]
+    print(f"settings: warm-up {s['warmup_steps']} steps, timed {s['steps']} steps, profiled {s['profile_steps']} steps; "
+          f"evaluation {s['eval_episodes']} episodes per policy; best of {s['repeats']}"
+          + (f"; quick overrides {s['overrides']}" if s["overrides"] else ""))
+    print()
+    print(f"{'run':4s} {'measurement':11s} {'tree':8s} {'rate':>10s} {'unit':14s} {'timed wall':>10s} "
+          f"{'load start -> end (timed)':>26s}")
+    for r in res["runs"]:
+        ev = r["kind"] == "eval"
+        rate, unit = (r["episodes_per_s"], "episodes/s") if ev else (r["steps_per_s"], "env steps/s")
+        print(f"{r['repeat'] + 1:<4d} {r['kind']:11s} {r['tree_name']:8s} {rate:10.3f} {unit:14s} {r['wall_s']:9.1f}s "
+              f"{r['load_1min_start']:8.2f} -> {r['load_1min_end']:.2f} ({r['load_1min_timed_start']:.2f} -> "
+              f"{r['load_1min_timed_end']:.2f})")
+    print()
+    base = "baseline" in res["trees"]
+    keys = list(THROUGHPUT.values()) + ["eval_wall_s_per_100_episodes"]
+    print(f"{'key':30s} {'current':>10s}" + (f" {'baseline':>10s} {'ratio':>7s}" if base else ""))
+    for k in keys:
+        line = f"{k:30s} {_fmt(res.get(k), '{:10.3f}'):>10s}"
+        if base:
+            ratio = _fmt(res.get(k + "_ratio"), "{:.2f}x") if k + "_ratio" in res else ""
+            line += f" {_fmt(res.get(k + '_baseline'), '{:10.3f}'):>10s} {ratio:>7s}"
+        print(line)
+    print()
+    print("share of the timed learn's wall time (current tree, best run):")
+    print(f"  {'part':32s} {'PPO':>8s} {'SAC':>8s}")
+    for part in PARTS:
+        print(f"  {PART_LABELS[part]:32s} " + " ".join(
+            f"{_fmt(None if res.get(f'share_{a}_{part}') is None else 100 * res[f'share_{a}_{part}'], '{:7.1f}%'):>8s}"
+            for a in ("ppo", "sac")))
+    ev = _best(res["runs"], "eval", "current")
+    if ev is not None and ev["shares"]["physics_step"] is not None:
+        sh = ev["shares"]
+        print(f"evaluation (current tree): {ev['episodes']} episodes of {ev['episode_steps']} steps in {ev['wall_s']:.1f} s "
+              f"(run_policies {ev['run_policies_s']:.1f} s); physics kernel {100 * sh['physics_step']:.1f} % in steps, "
+              f"{100 * sh['physics_settle']:.1f} % in settled starts, static equilibrium {100 * sh['reset_load']:.1f} %")
+
+
+def main(argv=None) -> int:
+    ap = bench_cli.parser(__doc__, "shrunken smoke run, same keys")
+    ap.add_argument("--baseline", metavar="DIR", type=Path, help="checkout to compare with, side by side")
+    ap.add_argument("--baseline-cache", metavar="DIR", help="its numba cache (default DIR/.numba-cache)")
+    ap.add_argument("--repeats", type=int, help="runs per measurement and tree, best kept (default 2, quick 1)")
+    ap.add_argument("--only", default=",".join(KINDS), help="comma-separated subset of ppo,sac,eval")
+    ap.add_argument("--steps", type=int, help="timed env steps per training measurement (default 5000)")
+    ap.add_argument("--warmup-steps", type=int, help="untimed env steps before them (default 1000)")
+    ap.add_argument("--profile-steps", type=int, help="cProfile'd env steps after them, first repeat only "
+                    "(default 2000; 0: no torch/SB3 split)")
+    ap.add_argument("--eval-episodes", type=int, help="evaluation episodes per policy (default 20)")
+    ap.add_argument("--worker", metavar="SPEC", help=argparse.SUPPRESS)
+    a = ap.parse_args(argv)
+    if a.worker:
+        spec = json.loads(a.worker)
+        Path(spec["out"]).write_text(json.dumps(worker(spec)))
+        return 0
+    kinds = tuple(k for k in KINDS if k in a.only.split(","))
+    if not kinds or set(a.only.split(",")) - set(KINDS):
+        ap.error(f"--only takes a comma-separated subset of {','.join(KINDS)}")
+    if a.baseline is not None and not (a.baseline / "train.py").exists():
+        ap.error(f"--baseline {a.baseline}: no train.py there (a checkout of this repository?)")
+    log = None if a.json else (lambda s: print(s, file=sys.stderr, flush=True))
+    res = run(a.quick, a.baseline.resolve() if a.baseline else None, a.baseline_cache, a.repeats, kinds,
+              {"steps": a.steps, "warmup_steps": a.warmup_steps, "profile_steps": a.profile_steps,
+               "eval_episodes": a.eval_episodes}, log)
+    bench_cli.emit(res, a, print_table)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
