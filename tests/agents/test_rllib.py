@@ -1,0 +1,152 @@
+"""The README's RLlib snippet ("Training past one machine") runs, as written, on a local Ray.
+
+The snippet is read from README.md and executed with only its sizes made small (``SMALL``: 2 env
+runners, a 400-step batch, one epoch), so the test and the README make the same calls; its loop
+of ``algo.train()`` is run here for ``ITERATIONS`` iterations. The slow test needs the ``rllib``
+extra (``pip install -e ".[rllib]"``: Ray's RLlib, pinned, with the gymnasium it pins) and
+BEARING_GYM_SLOW=1; 1.5-2 min on a loaded 2-core machine. The fast test checks, without
+RLlib, that the snippet still has the shape the slow test relies on.
+
+Asserted: every iteration samples exactly the configured batch; the env runners step
+``BearingPreloadEnv`` of the transient tier under the registered time limit (``EPISODE_STEPS``),
+and the sampled episodes end there; each episode's return is finite and in
+[-worst step cost x EPISODE_STEPS, 0); the learner's losses are finite. Nothing about speed or
+learning.
+"""
+
+import ast
+import math
+import re
+from pathlib import Path
+
+import gymnasium
+import pytest
+
+import bearing_gym  # noqa: F401 - registers BearingPreload-v0
+from bearing_gym.benchmark import EPISODE_STEPS
+from bearing_gym.envs.reward import VibrationFirstReward
+
+README = Path(__file__).resolve().parents[2] / "README.md"
+SECTION = "### Training past one machine"
+ENV_ID = "BearingPreload-v0"
+
+# The snippet's sizes for a test (keyword -> value); its other arguments are run as written.
+SMALL = {"num_env_runners": 2, "train_batch_size_per_learner": 400, "minibatch_size": 100,
+         "num_epochs": 1}
+ITERATIONS = 3
+LOOP = "for _ in range(100):\n    result = algo.train()"
+
+
+def readme_snippet() -> str:
+    """The first ``python`` code block of the README's section on training past one machine."""
+    text = README.read_text(encoding="utf-8")
+    assert SECTION in text, f"README.md has no section {SECTION!r}"
+    m = re.search(r"```python\n(.*?)```", text.split(SECTION, 1)[1], re.S)
+    assert m, f"no python block in README.md {SECTION!r}"
+    return m.group(1)
+
+
+def small_setup(snippet: str) -> ast.Module:
+    """The snippet's statements before its training loop, with the sizes of ``SMALL``."""
+    tree = ast.parse(snippet)
+    *setup, loop = tree.body
+    assert ast.unparse(loop) == LOOP, f"the snippet should end with its training loop:\n{LOOP}"
+    module = ast.Module(body=setup, type_ignores=[])
+    replaced = []
+    for node in ast.walk(module):
+        if isinstance(node, ast.keyword) and node.arg in SMALL:
+            node.value = ast.copy_location(ast.Constant(SMALL[node.arg]), node.value)
+            replaced.append(node.arg)
+    assert sorted(replaced) == sorted(SMALL), f"the snippet should set each of {sorted(SMALL)} once"
+    return ast.fix_missing_locations(module)
+
+
+def _calls(module: ast.Module) -> dict[str, ast.Call]:
+    """The snippet's calls by the name called (function or method)."""
+    out = {}
+    for node in ast.walk(module):
+        if isinstance(node, ast.Call):
+            f = node.func
+            out[f.attr if isinstance(f, ast.Attribute) else getattr(f, "id", "")] = node
+    return out
+
+
+def test_readme_snippet_has_the_shape_the_slow_test_runs():
+    """Without RLlib: the snippet registers and configures the registered env id on the
+    transient tier, and has every size that the slow test makes small."""
+    calls = _calls(small_setup(readme_snippet()))
+    for name in ("register_env", "PPOConfig", "environment", "env_runners", "training", "build_algo"):
+        assert name in calls, name
+    assert ast.literal_eval(calls["register_env"].args[0]) == ENV_ID
+    env = calls["environment"]
+    assert ast.literal_eval(env.args[0]) == ENV_ID
+    assert {k.arg: ast.literal_eval(k.value) for k in env.keywords} == {"env_config": {"tier": "transient"}}
+    assert ast.literal_eval(calls["make"].args[0]) == ENV_ID            # gymnasium.make in make_env
+    spec = gymnasium.spec(ENV_ID)
+    assert spec.entry_point == "bearing_gym.envs.bearing_preload:BearingPreloadEnv"
+    assert spec.max_episode_steps == EPISODE_STEPS
+
+
+@pytest.mark.slow
+def test_readme_rllib_snippet_trains_ppo_on_two_env_runners():
+    pytest.importorskip("ray.rllib", reason='RLlib is not installed: pip install -e ".[rllib]"')
+    import ray
+
+    def sub_envs(runner):              # runs on each env runner (nested: pickled by value)
+        """(class, tier, time limit) of each of the runner's gymnasium envs."""
+        out = []
+        for env in runner.env.unwrapped.envs:
+            limit, e = None, env
+            while hasattr(e, "env"):                   # through the wrappers, outermost first
+                limit = limit or getattr(e, "_max_episode_steps", None)
+                e = e.env
+            out.append((type(e).__name__, e.tier, limit))
+        return out
+
+    code = compile(small_setup(readme_snippet()), f"{README.name} ({SECTION[4:]})", "exec")
+    ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
+    try:
+        ns: dict = {}
+        exec(code, ns)                                 # the README's statements, small sizes
+        algo = ns["algo"]
+        try:
+            results = [algo.train() for _ in range(ITERATIONS)]
+            envs = algo.env_runner_group.foreach_env_runner(sub_envs, local_env_runner=False)
+        finally:
+            algo.stop()
+    finally:
+        ray.shutdown()
+
+    assert algo.config.env == ENV_ID
+    assert algo.config.num_env_runners == SMALL["num_env_runners"]
+    n_envs = SMALL["num_env_runners"] * algo.config.num_envs_per_env_runner
+    assert [e for runner in envs for e in runner] == [("BearingPreloadEnv", "transient", EPISODE_STEPS)] * n_envs
+
+    batch = SMALL["train_batch_size_per_learner"]
+    sampled = [r["env_runners"]["num_env_steps_sampled"] for r in results]
+    assert sampled == [batch] * ITERATIONS
+    assert results[-1]["env_runners"]["num_env_steps_sampled_lifetime"] == ITERATIONS * batch
+
+    # Each env stepped ITERATIONS * batch / n_envs times, so it finished at least that many //
+    # EPISODE_STEPS episodes (more only if the integrator failed and the episode ended early).
+    finished = results[-1]["env_runners"]["num_episodes_lifetime"]
+    assert finished >= n_envs * (ITERATIONS * batch // n_envs // EPISODE_STEPS) >= n_envs
+
+    # Per interval the reward is in [-worst, 0]; a failed interval earns -worst for itself and
+    # for every interval left, so an episode's return is in [-worst * EPISODE_STEPS, 0]. worst:
+    # the costliest interval of the task's envelope (the transient tier's speeds and radial
+    # loads stay inside it): quasi-periodic at the amplitude cap, P_max, n_max, F_r,max, and the
+    # whole preload range moved.
+    worst = float(VibrationFirstReward().worst_step_cost(0.0, 0.0))
+    assert worst == pytest.approx(1 + 100 / 10 + 0.5 + 0.5 + 0.1)
+    with_episodes = [r["env_runners"] for r in results if r["env_runners"].get("num_episodes", 0) > 0]
+    assert with_episodes
+    for er in with_episodes:
+        lo, mean, hi = er["episode_return_min"], er["episode_return_mean"], er["episode_return_max"]
+        assert all(math.isfinite(v) for v in (lo, mean, hi)), er
+        assert -worst * EPISODE_STEPS <= lo <= mean <= hi < 0.0, (lo, mean, hi)
+        assert 1 <= er["episode_len_min"] <= er["episode_len_max"] == EPISODE_STEPS
+
+    learner = results[-1]["learners"]["default_policy"]
+    for key in ("policy_loss", "vf_loss", "total_loss"):
+        assert math.isfinite(learner[key]), (key, learner[key])
