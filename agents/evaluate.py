@@ -4,7 +4,10 @@
 
 Runs the trained policy in each DIR (``model.zip`` + ``vec_normalize.pkl`` from ``train.py``;
 several DIRs put PPO and SAC side by side) and every scripted baseline on the same seeds (env i
-of the batch is seeded ``seed + i``, so every policy meets the same scenarios), and writes
+of the batch is seeded ``seed + i``, so every policy meets the same scenarios): among them the
+best constant preload chosen on the validation seeds (read from
+``agents/data/reference_constants.json``, never chosen on these episodes) and, per scenario, the
+best constant of a 50 N grid over the actuator's whole range with hindsight. It writes
 ``DIR/evaluation.md``, ``DIR/evaluation.csv``, ``DIR/evaluation_episodes.csv`` (every episode's
 return per policy) and ``DIR/evaluation_traces.png``. Per policy: mean return with a 95 % confidence interval
 (Student t over episodes), the mean of each reward term, the fraction of control intervals spent
@@ -16,6 +19,7 @@ from __future__ import annotations
 
 import argparse
 import csv
+import dataclasses
 import json
 import math
 import time
@@ -32,11 +36,14 @@ from bearing_gym.benchmark import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
 
 from .oracle import MapOracle
 from .policies import ConstantPreload, FeedbackRule, Policy, SpeedScheduledPreload
-from .protocol import TEST
+from .protocol import HINDSIGHT_GRID_STEP_N, TEST, preload_grid
+from .reference_store import STORE_PATH, ValidationChoice, load_choice, rebuild_command
 from .stability_table import StabilityTable
 
 TEST_SEED = TEST.start      # first held-out test seed (agents.protocol keeps the ranges apart)
-CONSTANT_CANDIDATES_N = (600.0, 800.0, 1000.0, 1200.0, 1400.0, 1600.0, 1800.0, 2000.0)
+#: The algorithms load_trained knows: train.py's --algo -> (module, class).
+ALGORITHM_CLASSES = {"ppo": ("stable_baselines3", "PPO"), "sac": ("stable_baselines3", "SAC"),
+                     "ppo_lstm": ("sb3_contrib", "RecurrentPPO")}
 
 
 @dataclass
@@ -50,6 +57,8 @@ class EvalResult:
     terminated: np.ndarray | None = None    # per episode: ended early (None: none did)
     scenario: Any = None                    # the first episode's Scenario (the one traced)
     trace_label: str = ""                   # what the trace is, if not the policy itself
+    first_obs: np.ndarray | None = None     # per episode: the observation after reset
+    vibration_um: np.ndarray | None = None  # per episode: mean non-synchronous RMS amplitude (um)
 
     @property
     def terminated_count(self) -> int:
@@ -98,14 +107,32 @@ class SB3Policy(Policy):
         return np.clip(act, -1.0, 1.0), state
 
 
-def load_trained(model_dir: str | Path) -> SB3Policy:
+def load_trained(model_dir: str | Path, algo: str | None = None) -> SB3Policy:
+    """The SB3 model in ``model_dir`` (``model.zip``, with ``vec_normalize.pkl`` if there) behind
+    the scripted-policy interface. The algorithm is ``algo`` or, if None, ``config.json``'s
+    (train.py writes it): one of ALGORITHM_CLASSES."""
+    import importlib
     import pickle
 
-    from stable_baselines3 import PPO, SAC
     model_dir = Path(model_dir)
-    cfg = json.loads((model_dir / "config.json").read_text())
-    algo = {"ppo": PPO, "sac": SAC}[cfg["algo"]]
-    model = algo.load(model_dir / "model.zip", device="cpu")
+    cfg_path = model_dir / "config.json"
+    cfg = json.loads(cfg_path.read_text()) if cfg_path.exists() else {}
+    algo = algo or cfg.get("algo")
+    if algo is None:
+        raise ValueError(f"{model_dir}: no config.json says which algorithm model.zip is; pass algo= "
+                         f"(one of {', '.join(ALGORITHM_CLASSES)})")
+    if algo not in ALGORITHM_CLASSES:
+        raise ValueError(f"{model_dir}: unknown algorithm {algo!r}; known: {', '.join(ALGORITHM_CLASSES)}")
+    module, cls_name = ALGORITHM_CLASSES[algo]
+    try:
+        cls = getattr(importlib.import_module(module), cls_name)
+    except ImportError as err:
+        raise ImportError(f"{algo} needs the package {module.replace('_', '-')}: pip install "
+                          f"{module.replace('_', '-')}") from err
+    if not (model_dir / "model.zip").exists():
+        raise FileNotFoundError(f"{model_dir / 'model.zip'} not found: point at a directory written by "
+                                "train.py (or a shipped policy directory)")
+    model = cls.load(model_dir / "model.zip", device="cpu")
     obs_rms = None
     vn = model_dir / "vec_normalize.pkl"
     if vn.exists():
@@ -113,7 +140,7 @@ def load_trained(model_dir: str | Path) -> SB3Policy:
             obs_rms = pickle.load(fh).obs_rms
     steps = cfg.get("selected_timesteps", cfg.get("num_timesteps"))
     detail = "" if steps is None else f", {int(steps):,} steps"
-    return SB3Policy(model, obs_rms, name=f"{cfg['algo'].upper()} (trained{detail})")
+    return SB3Policy(model, obs_rms, name=f"{algo.upper()} (trained{detail})")
 
 
 class _Progress:
@@ -155,12 +182,14 @@ def run_policies(policies: list[Policy], episodes: int, seed: int, episode_steps
                                    num_threads=num_threads, **(env_kwargs or {}))
     seeds = [seed + (i % episodes) for i in range(n)]
     obs, _ = venv.reset(seed=seeds)
+    first_obs = np.array(obs, copy=True)
     alive = np.ones(n, dtype=bool)
     terminated = np.zeros(n, dtype=bool)
     ret = np.zeros(n)
     terms = {k: np.zeros(n) for k in REWARD_TERMS}
     qp = np.zeros(n)
     preload_sum = np.zeros(n)
+    vibration_sum = np.zeros(n)
     steps = np.zeros(n)
     states: list[Any] = [None] * n_pol
     starts = np.ones(episodes, dtype=bool)
@@ -185,6 +214,7 @@ def run_policies(policies: list[Policy], episodes: int, seed: int, episode_steps
             terms[key][alive] += info[f"reward_{key}"][alive]
         qp[alive] += info["quasi_periodic"][alive]
         preload_sum[alive] += info["preload_n"][alive]
+        vibration_sum[alive] += info["nonsync_rms_um"][alive]
         steps[alive] += 1
         for p in range(n_pol):
             b = p * episodes
@@ -207,15 +237,21 @@ def run_policies(policies: list[Policy], episodes: int, seed: int, episode_steps
         out.append(EvalResult(pol.name, ret[sl].copy(), {k: v[sl].copy() for k, v in terms.items()},
                               qp[sl] / np.maximum(steps[sl], 1), preload_sum[sl] / np.maximum(steps[sl], 1),
                               {k: np.array(v) for k, v in traces[p].items()},
-                              terminated=terminated[sl].copy(), scenario=first_scenarios[p]))
+                              terminated=terminated[sl].copy(), scenario=first_scenarios[p],
+                              first_obs=first_obs[sl], vibration_um=vibration_sum[sl] / np.maximum(steps[sl], 1)))
     return out
 
 
-def best_constant_preload(episodes: int, seed: int, episode_steps: int, **kw) -> tuple[float, list[EvalResult]]:
-    """The constant preload with the highest mean return on these scenarios."""
-    res = run_policies([ConstantPreload(p) for p in CONSTANT_CANDIDATES_N], episodes, seed, episode_steps, **kw)
-    best = int(np.argmax([np.mean(r.returns) for r in res]))
-    return CONSTANT_CANDIDATES_N[best], res
+def constant_sweep(preloads_n, episodes: int, seed: int, episode_steps: int, **kw) -> list[EvalResult]:
+    """Every constant preload of ``preloads_n`` on the same scenarios (seeds seed ..
+    seed+episodes-1), in one batch (``kw`` as for :func:`run_policies`)."""
+    return run_policies([ConstantPreload(float(p)) for p in preloads_n], episodes, seed, episode_steps, **kw)
+
+
+def sweep_row(sweep: list[EvalResult], preload_n: float) -> EvalResult | None:
+    """The sweep's result for the constant ``preload_n`` (None if it was not swept)."""
+    name = ConstantPreload(preload_n).name
+    return next((r for r in sweep if r.name == name), None)
 
 
 def hindsight_constant(sweep: list[EvalResult]) -> EvalResult:
@@ -230,11 +266,13 @@ def hindsight_constant(sweep: list[EvalResult]) -> EvalResult:
 
     first = sweep[int(pick[0])]     # the trace is the first scenario's: its chosen constant
     terminated = chosen([np.zeros(len(r.returns), bool) if r.terminated is None else r.terminated for r in sweep])
+    vibration = (None if any(r.vibration_um is None for r in sweep)
+                 else chosen([r.vibration_um for r in sweep]))
     return EvalResult("best constant per scenario (hindsight)", returns[pick, cols],
                       {k: chosen([r.terms[k] for r in sweep]) for k in REWARD_TERMS},
                       chosen([r.qp_fraction for r in sweep]), chosen([r.mean_preload for r in sweep]),
                       trace=first.trace, terminated=terminated, scenario=first.scenario,
-                      trace_label=f"hindsight: {first.name}")
+                      trace_label=f"hindsight: {first.name}", vibration_um=vibration)
 
 
 def baselines(table: StabilityTable | None) -> list[Policy]:
@@ -358,14 +396,31 @@ def plot_traces(results: list[EvalResult], path: Path | None, first_seed: int | 
     return None
 
 
+def stored_choice(tier: str, store_path: str | Path = STORE_PATH, verbose: bool = True) -> ValidationChoice | None:
+    """The validation-chosen constant of ``tier`` from the store, or None (with a warning that
+    says how to build it) if the store has none."""
+    try:
+        return load_choice(tier, store_path)
+    except LookupError as err:
+        if verbose:
+            print(f"warning: {err}; the report has no validation-chosen constant row", flush=True)
+        return None
+
+
 def evaluate(model_dir: str | Path | list[str | Path] | None, episodes: int = 20, seed: int = TEST_SEED,
              episode_steps: int = EPISODE_STEPS, out_dir: str | Path | None = None,
              table_path: str | Path | None = None, verbose: bool = True,
-             progress_every_s: float = 30.0, tier: str = DEFAULT_TIER) -> list[EvalResult]:
+             progress_every_s: float = 30.0, tier: str = DEFAULT_TIER,
+             store_path: str | Path = STORE_PATH, grid_step_n: float = HINDSIGHT_GRID_STEP_N) -> list[EvalResult]:
     """Every policy (the trained ones in ``model_dir``, the scripted baselines, the constant
     preloads) on the same held-out scenarios; writes the report files to ``out_dir`` (default:
     the first model directory, else ``evaluation/``). With ``verbose``, progress lines (at most
-    one per ``progress_every_s`` seconds per phase) and the table are printed."""
+    one per ``progress_every_s`` seconds per phase) and the table are printed.
+
+    The best constant preload is the one stored for ``tier`` in ``store_path`` (chosen on
+    validation seeds by ``python -m agents.references``), never chosen on these episodes; the
+    hindsight reference is the best constant per scenario of a ``grid_step_n`` grid over the
+    actuator's whole range (the stored constant's row is that sweep's run of it)."""
     try:
         table = StabilityTable.load(table_path) if table_path else StabilityTable.load()
     except FileNotFoundError as err:
@@ -379,22 +434,38 @@ def evaluate(model_dir: str | Path | list[str | Path] | None, episodes: int = 20
         model_dirs = list(model_dir)
     policies: list[Policy] = [load_trained(d) for d in model_dirs]
     policies += baselines(table)
+    choice = stored_choice(tier, store_path, verbose)
+    grid = preload_grid(grid_step_n)
+    if choice is not None and choice.preload_n not in grid:     # a store built on another grid
+        grid = tuple(sorted(set(grid) | {choice.preload_n}))
     shape = f"{episodes} held-out episodes of {episode_steps} steps, stepped together"
     kw = {"env_kwargs": {"tier": tier}, "progress_every_s": progress_every_s}
-    best_n, sweep = best_constant_preload(
-        episodes, seed, episode_steps, **kw,
-        progress=f"evaluation 1/2: {len(CONSTANT_CANDIDATES_N)} constant preloads x {shape}" if verbose else None)
+    sweep = constant_sweep(grid, episodes, seed, episode_steps, **kw,
+                           progress=f"evaluation 1/2: {len(grid)} constant preloads x {shape}" if verbose else None)
     results = run_policies(policies, episodes, seed, episode_steps, **kw,
                            progress=f"evaluation 2/2: {len(policies)} policies x {shape}" if verbose else None)
-    # the best constant's row is its sweep run (same scenarios, deterministic): no second run
-    best_row = next(r for r in sweep if r.name == ConstantPreload(best_n).name)
-    results = results[:len(model_dirs)] + [best_row] + results[len(model_dirs):] + [hindsight_constant(sweep)]
+    hindsight = hindsight_constant(sweep)
+    # the stored constant's row is its sweep run (same scenarios, deterministic): no second run
+    chosen = []
+    if choice is not None:
+        chosen = [dataclasses.replace(sweep_row(sweep, choice.preload_n),
+                                      name=f"constant {choice.preload_n:.0f} N (validation choice)")]
+    results = results[:len(model_dirs)] + chosen + results[len(model_dirs):] + [hindsight]
     out = Path(out_dir or (model_dirs[0] if model_dirs else "evaluation"))
+    definition = (" (the registered BearingPreload-v0)" if tier == DEFAULT_TIER and episode_steps == EPISODE_STEPS
+                  else " (not the benchmark definition)")
+    if choice is None:
+        best = f"no validation-chosen constant is stored for tier {tier} (`{rebuild_command(tier)}` builds it)"
+    else:
+        problems = choice.protocol_problems()
+        best = (f"best constant preload chosen on the validation seeds, not on these: {choice.describe()}"
+                + (f" (provisional: {'; '.join(problems)})" if problems else ""))
     header = (f"Held-out seeds {seed}..{seed + episodes - 1}, {episodes} episodes of {episode_steps} control "
-              f"intervals (20 ms) each, tier {tier}{' (the registered BearingPreload-v0)' if tier == DEFAULT_TIER and episode_steps == EPISODE_STEPS else ' (not the benchmark definition)'}; best constant preload from a sweep over "
-              f"{', '.join(f'{p:.0f}' for p in CONSTANT_CANDIDATES_N)} N on the same scenarios: {best_n:.0f} N. "
-              f"The last row picks, for each scenario, the best of those constants with hindsight.")
-    write_report(results, out, header, reference=ConstantPreload(best_n).name, first_seed=seed)
+              f"intervals (20 ms) each, tier {tier}{definition}; {best}. The last row picks, for each scenario, "
+              f"the best constant of a {grid_step_n:g} N grid over {grid[0]:.0f}-{grid[-1]:.0f} N "
+              f"({len(grid)} preloads) with hindsight.")
+    reference = chosen[0].name if chosen else hindsight.name
+    write_report(results, out, header, reference=reference, first_seed=seed)
     if verbose:
         print((out / "evaluation.md").read_text())
     return results

@@ -23,13 +23,15 @@ DEFAULT_CANDIDATES_N = tuple(float(p) for p in np.linspace(300.0, 2000.0, 9))
 
 @dataclass
 class EpisodeOutcome:
-    """One episode of a controller: return, terms and the preload trace."""
+    """One episode of a controller: return, terms, the preload trace and the mean
+    non-synchronous vibration amplitude (um) over the intervals it ran."""
 
     episode_return: float
     terms: dict[str, float]
     quasi_periodic_fraction: float
     terminated: bool
     preload_n: list[float] = field(default_factory=list)
+    vibration_um: float = 0.0
 
 
 def _hold(env, action: np.ndarray, steps: int) -> float:
@@ -76,14 +78,17 @@ def run_episode(env, action_at, seed: int | None = None, options: dict | None = 
     env.reset(seed=seed, options=options)
     out = EpisodeOutcome(0.0, {}, 0.0, False)
     qp = 0
+    vibration = 0.0
     for k in range(env.episode_steps):
         _, r, term, _, info = env.step(action_at(k))
         _accumulate(out, r, info)
         qp += info["quasi_periodic"]
+        vibration += info["nonsync_rms_um"]
         if term:
             out.terminated = True
             break
     out.quasi_periodic_fraction = qp / env.episode_steps
+    out.vibration_um = vibration / max(len(out.preload_n), 1)
     return out
 
 

@@ -1,7 +1,7 @@
 """Scripted preload controllers: the ways spindle engineers set preload today.
 
 * :class:`ConstantPreload`: one fixed preload (the best one is found by a sweep over the
-  evaluation scenarios, :func:`agents.evaluate.best_constant_preload`).
+  validation scenarios, :mod:`agents.references`).
 * :class:`SpeedScheduledPreload`: a preload-vs-speed table (spindle makers' speed-dependent
   preload), here the worst-case critical preload of the stability map at each speed plus a margin.
 * :class:`FeedbackRule`: raise the preload when the observed quasi-periodicity index crosses a

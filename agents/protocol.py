@@ -1,22 +1,39 @@
-"""The evaluation protocol's seed ranges, written down before any evaluation on them.
+"""The evaluation protocol, written down before any evaluation on it: seed ranges, episode
+counts, the reference grids, training seeds and the step budget.
 
 Every env seed a script uses comes from one of these disjoint ranges (``check_disjoint`` and
 ``tests/agents/test_protocol.py`` hold them apart):
 
 * ``TRAIN``: training envs (``train.py --seed s`` seeds env i with s + i; their later episodes
-  draw from the envs' own generators);
+  draw from the envs' own generators) and the scenarios the contextual baseline is fitted on
+  (``CONTEXTUAL_FIT_SEED``, a block of its own inside TRAIN);
 * ``VALIDATION``: checkpoint selection and every choice made while developing (hyperparameters,
-  the best constant preload);
+  the best constant preload of :mod:`agents.references`);
 * ``TIER_DESIGN``: measurements that shaped the benchmark itself (``agents.tier_gap``: does a
   tier need closed-loop control?);
 * ``TEST``: the held-out evaluation of the leaderboard; fresh, never used while developing.
   (The earlier test range, 100000+, was looked at during development and is retired:
   ``RETIRED``.)
+
+The leaderboard (:mod:`agents.leaderboard`) runs ``TEST_EPISODES`` test scenarios per tier
+(seeds ``TEST.start`` on), the MPC reference on the first ``MPC_EPISODES`` of them, every
+learned algorithm with the training seeds of :func:`training_seeds` and the step budget
+``STEP_BUDGET_PER_RUN``. ``check_protocol`` (run at import) checks that these numbers fit the
+ranges and the minimums of the protocol.
 """
 
 from __future__ import annotations
 
-__all__ = ["TRAIN", "VALIDATION", "TIER_DESIGN", "TEST", "RETIRED", "RANGES", "check_disjoint"]
+import math
+from typing import Any
+
+__all__ = ["TRAIN", "VALIDATION", "TIER_DESIGN", "TEST", "RETIRED", "RANGES", "check_disjoint",
+           "range_of", "TEST_EPISODES", "MPC_EPISODES", "VALIDATION_CONSTANT_EPISODES",
+           "CONTEXTUAL_FIT_EPISODES", "CONTEXTUAL_FIT_SEED", "HINDSIGHT_GRID_STEP_N",
+           "VALIDATION_GRID_STEP_N", "CONTEXTUAL_GRID_STEP_N", "ALGORITHMS", "HEADLINE_ALGORITHM",
+           "HEADLINE_SEEDS", "OTHER_SEEDS", "RUN_SEED_STRIDE", "STEP_BUDGET_PER_RUN",
+           "STEP_BUDGET_CHOSEN_FROM_THROUGHPUT", "training_seeds", "held_out_seeds", "validation_seeds",
+           "preload_grid", "check_protocol"]
 
 TRAIN = range(0, 50_000)
 VALIDATION = range(50_000, 60_000)
@@ -26,6 +43,50 @@ TEST = range(300_000, 310_000)
 
 RANGES = {"train": TRAIN, "validation": VALIDATION, "retired": RETIRED, "tier_design": TIER_DESIGN,
           "test": TEST}
+
+# -- episode counts ------------------------------------------------------------------------------
+#: Test episodes per tier (seeds TEST.start .. TEST.start + TEST_EPISODES - 1), every policy and
+#: reference on the same scenarios.
+TEST_EPISODES = 100
+#: The MPC reference (agents.mpc, about 20 simulated intervals per real one) runs on the first
+#: MPC_EPISODES test scenarios only; elsewhere the upper reference is the hindsight constant.
+MPC_EPISODES = 20
+#: Validation episodes on which the best constant preload is chosen (seeds VALIDATION.start on).
+VALIDATION_CONSTANT_EPISODES = 50
+#: Training-range scenarios the contextual baseline is fitted on (seeds CONTEXTUAL_FIT_SEED on).
+CONTEXTUAL_FIT_EPISODES = 100
+#: First seed of the contextual fit: inside TRAIN, above every training run's seed block.
+CONTEXTUAL_FIT_SEED = TRAIN.start + 40_000
+
+# -- the constant-preload grids over the actuator's whole range ----------------------------------
+#: The hindsight best constant per episode searches this grid (N).
+HINDSIGHT_GRID_STEP_N = 50.0
+#: The validation-chosen constant is chosen on the same grid (so it is one of the hindsight's
+#: candidates and the hindsight constant never scores below it).
+VALIDATION_GRID_STEP_N = HINDSIGHT_GRID_STEP_N
+#: The contextual baseline predicts the return of each constant of this coarser grid (N).
+CONTEXTUAL_GRID_STEP_N = 100.0
+
+# -- training runs --------------------------------------------------------------------------------
+#: The learned baselines (the names of train.py's --algo; ppo_lstm is sb3-contrib's RecurrentPPO,
+#: RL Zoo's name for it).
+ALGORITHMS = ("ppo", "sac", "ppo_lstm")
+#: The headline algorithm, fixed before any run: SAC, the algorithm of the earlier claim that
+#: the leaderboard re-examines.
+HEADLINE_ALGORITHM = "sac"
+HEADLINE_SEEDS = 5
+OTHER_SEEDS = 3
+#: Run k of an algorithm trains with seed TRAIN.start + k * RUN_SEED_STRIDE; train.py seeds its env
+#: i with seed + i, so runs with up to RUN_SEED_STRIDE envs keep their seed blocks apart.
+RUN_SEED_STRIDE = 1_000
+
+#: Environment steps per training run, equal for every algorithm and seed. NOT YET CHOSEN: this
+#: value is a placeholder. It is to be chosen from the measured throughput (environment steps/s
+#: of each algorithm on the idle 2-core machine, train.py's progress lines) so that all runs fit
+#: the compute available, and the reason written here; until then
+#: STEP_BUDGET_CHOSEN_FROM_THROUGHPUT stays False and results.json says so.
+STEP_BUDGET_PER_RUN = 200_000
+STEP_BUDGET_CHOSEN_FROM_THROUGHPUT = False
 
 
 def check_disjoint(ranges: dict[str, range] = RANGES) -> None:
@@ -45,4 +106,84 @@ def range_of(seed: int) -> str | None:
     return None
 
 
-check_disjoint()
+def training_seeds(algo: str) -> tuple[int, ...]:
+    """The seeds of ``algo``'s training runs: HEADLINE_SEEDS for the headline algorithm,
+    OTHER_SEEDS for the others, every one in TRAIN (the same first seeds for every algorithm)."""
+    if algo not in ALGORITHMS:
+        raise ValueError(f"unknown algorithm {algo!r}: the protocol's are {', '.join(ALGORITHMS)}")
+    n = HEADLINE_SEEDS if algo == HEADLINE_ALGORITHM else OTHER_SEEDS
+    return tuple(TRAIN.start + k * RUN_SEED_STRIDE for k in range(n))
+
+
+def _block(first: int, episodes: int, within: range, name: str) -> range:
+    if episodes < 1:
+        raise ValueError(f"episodes must be >= 1, got {episodes}")
+    block = range(first, first + episodes)
+    if block.start not in within or block[-1] not in within:
+        raise ValueError(f"{name} seeds {block.start}..{block[-1]} leave the {name} range "
+                         f"[{within.start}, {within.stop}): use fewer episodes or another first seed")
+    return block
+
+
+def held_out_seeds(episodes: int = TEST_EPISODES) -> range:
+    """The leaderboard's test seeds (the MPC subset is the first MPC_EPISODES of them)."""
+    return _block(TEST.start, episodes, TEST, "test")
+
+
+def validation_seeds(episodes: int = VALIDATION_CONSTANT_EPISODES, first: int = VALIDATION.start) -> range:
+    """Validation seeds from ``first`` on (raises if they leave VALIDATION)."""
+    return _block(first, episodes, VALIDATION, "validation")
+
+
+def preload_grid(step_n: float, min_n: float | None = None, max_n: float | None = None) -> tuple[float, ...]:
+    """Constant preloads from the actuator's minimum to its maximum (both included) every
+    ``step_n`` newtons; the maximum is appended if ``step_n`` does not divide the range.
+    ``min_n``/``max_n`` default to the default actuator's range (300-2000 N)."""
+    if min_n is None or max_n is None:
+        from bearing_gym.envs.actuator import PreloadActuator
+        act = PreloadActuator()
+        min_n = act.min_preload_n if min_n is None else min_n
+        max_n = act.max_preload_n if max_n is None else max_n
+    if not (step_n > 0 and math.isfinite(step_n)):
+        raise ValueError(f"step_n must be a positive number of newtons, got {step_n}")
+    if not max_n > min_n:
+        raise ValueError(f"max_n ({max_n}) must exceed min_n ({min_n})")
+    n = int(math.floor((max_n - min_n) / step_n + 1e-9))
+    grid = [float(min_n + k * step_n) for k in range(n + 1)]
+    if max_n - grid[-1] > 1e-6:
+        grid.append(float(max_n))
+    return tuple(grid)
+
+
+def check_protocol(**overrides: Any) -> None:
+    """Raise ValueError naming the first broken rule of the protocol: disjoint ranges, at least
+    100 test episodes per tier, an MPC subset inside them, at least 5 training seeds for the
+    headline algorithm and 3 for the others, training seeds and the contextual fit in TRAIN and
+    apart. ``overrides`` replace module constants by name (for tests)."""
+    g = {**globals(), **overrides}
+    check_disjoint(g["RANGES"])
+    if g["TEST_EPISODES"] < 100:
+        raise ValueError(f"TEST_EPISODES must be >= 100 (the issue's minimum), got {g['TEST_EPISODES']}")
+    if not 1 <= g["MPC_EPISODES"] <= g["TEST_EPISODES"]:
+        raise ValueError(f"MPC_EPISODES must be in [1, TEST_EPISODES], got {g['MPC_EPISODES']}")
+    if g["HEADLINE_SEEDS"] < 5 or g["OTHER_SEEDS"] < 3:
+        raise ValueError("the headline algorithm needs >= 5 training seeds and the others >= 3, got "
+                         f"{g['HEADLINE_SEEDS']} and {g['OTHER_SEEDS']}")
+    if g["HEADLINE_ALGORITHM"] not in g["ALGORITHMS"]:
+        raise ValueError(f"HEADLINE_ALGORITHM {g['HEADLINE_ALGORITHM']!r} is not in ALGORITHMS")
+    train = g["TRAIN"]
+    runs = max(g["HEADLINE_SEEDS"], g["OTHER_SEEDS"])
+    last_run_block_end = train.start + runs * g["RUN_SEED_STRIDE"]
+    fit = range(g["CONTEXTUAL_FIT_SEED"], g["CONTEXTUAL_FIT_SEED"] + g["CONTEXTUAL_FIT_EPISODES"])
+    if last_run_block_end > train.stop or fit.start < train.start or fit.stop > train.stop:
+        raise ValueError("training seed blocks and the contextual fit must lie inside TRAIN")
+    if fit.start < last_run_block_end:
+        raise ValueError(f"the contextual fit seeds {fit.start}.. overlap the training runs' seed blocks "
+                         f"(up to {last_run_block_end}): raise CONTEXTUAL_FIT_SEED")
+    for name in ("TEST_EPISODES", "VALIDATION_CONSTANT_EPISODES"):
+        rng = g["TEST"] if name == "TEST_EPISODES" else g["VALIDATION"]
+        if g[name] > len(rng):
+            raise ValueError(f"{name} ({g[name]}) exceeds its seed range ({len(rng)} seeds)")
+
+
+check_protocol()

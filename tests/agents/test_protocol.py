@@ -1,5 +1,6 @@
 """The protocol's seed ranges are disjoint, and every script draws from the range it claims."""
 
+import numpy as np
 import pytest
 
 from agents import protocol
@@ -38,3 +39,40 @@ def test_training_and_evaluation_use_the_registered_definition():
     for parser in (train.build_parser(), evaluate_parser()):
         assert parser.get_default("episode_steps") == EPISODE_STEPS
         assert parser.get_default("tier") == DEFAULT_TIER
+
+
+def test_the_protocol_numbers_meet_the_minimums_and_the_check_catches_breaches():
+    protocol.check_protocol()
+    assert protocol.TEST_EPISODES >= 100 and 1 <= protocol.MPC_EPISODES <= protocol.TEST_EPISODES
+    for overrides, message in (({"TEST_EPISODES": 99}, "TEST_EPISODES"),
+                               ({"HEADLINE_SEEDS": 4}, "got 4 and 3"),
+                               ({"OTHER_SEEDS": 2}, "got 5 and 2"),
+                               ({"MPC_EPISODES": 101}, "MPC_EPISODES"),
+                               ({"CONTEXTUAL_FIT_SEED": 2_000}, "overlap the training runs")):
+        with pytest.raises(ValueError, match=message):
+            protocol.check_protocol(**overrides)
+
+
+def test_training_seeds_come_from_train_in_separate_blocks():
+    headline = protocol.training_seeds(protocol.HEADLINE_ALGORITHM)
+    assert len(headline) == protocol.HEADLINE_SEEDS >= 5
+    for algo in protocol.ALGORITHMS:
+        seeds = protocol.training_seeds(algo)
+        assert len(seeds) >= 3 and all(protocol.range_of(s) == "train" for s in seeds)
+        assert np.all(np.diff(seeds) >= protocol.RUN_SEED_STRIDE)
+        assert max(seeds) + protocol.RUN_SEED_STRIDE <= protocol.CONTEXTUAL_FIT_SEED
+    with pytest.raises(ValueError, match="unknown algorithm"):
+        protocol.training_seeds("dqn")
+
+
+def test_the_references_draw_from_their_ranges():
+    from agents import contextual, references
+    from agents.leaderboard import FULL
+    seeds = protocol.held_out_seeds(FULL.episodes)
+    assert FULL.episodes == protocol.TEST_EPISODES and protocol.range_of(seeds[0]) == protocol.range_of(seeds[-1]) == "test"
+    assert protocol.range_of(references.build_parser().get_default("seed")) == "validation"
+    fit = contextual.build_parser()
+    first = fit.get_default("seed")
+    assert protocol.range_of(first) == protocol.range_of(first + fit.get_default("episodes") - 1) == "train"
+    with pytest.raises(ValueError, match="leave the test range"):
+        protocol.held_out_seeds(len(protocol.TEST) + 1)

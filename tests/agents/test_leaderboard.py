@@ -1,0 +1,83 @@
+"""The leaderboard's smoke run (what CI runs): 2 test episodes of a few intervals, every
+reference and a learned algorithm with two training seeds, written to results.json."""
+
+import json
+import math
+
+import numpy as np
+import pytest
+
+from agents import leaderboard
+
+REQUIRED = ("normalised_score_iqm", "ci_low", "ci_high", "n_seeds", "n_episodes")
+
+
+def _untrained_run(d, seed):
+    """A train.py-like run directory holding an untrained PPO (no training: the weights are the
+    seed's initialisation), enough to exercise the learned-policy path."""
+    from stable_baselines3 import PPO
+    from stable_baselines3.common.vec_env import VecNormalize
+
+    from bearing_gym.envs import BearingPreloadSB3VecEnv
+    env = VecNormalize(BearingPreloadSB3VecEnv(num_envs=1, tier="transient", episode_steps=3, max_episode_steps=3))
+    PPO("MlpPolicy", env, n_steps=8, batch_size=8, seed=seed, device="cpu").save(d / "model.zip")
+    env.save(str(d / "vec_normalize.pkl"))
+    (d / "config.json").write_text(json.dumps({"algo": "ppo", "seed": seed, "tier": "transient", "num_timesteps": 0}))
+
+
+def test_smoke_leaderboard_writes_every_row_with_its_statistics(tmp_path):
+    runs = []
+    for seed in (0, 1000):
+        d = tmp_path / f"ppo_{seed}"
+        d.mkdir()
+        _untrained_run(d, seed)
+        runs.append(str(d))
+    out = tmp_path / "lb" / "results.json"
+    leaderboard.main(["--smoke", "--out", str(out), "--model", *runs])
+    data = json.loads(out.read_text())
+    assert data["mode"] == "smoke" and data["protocol"]["step_budget_chosen_from_throughput"] is False
+    tier = data["tiers"]["transient"]
+    assert not tier["protocol"] and tier["protocol_deviations"][0].startswith("smoke run")
+    rows = tier["policies"]
+    kinds = {"validation constant": 0, "hindsight constant": 0, "contextual constant": 0, "oracle": 0, "MPC": 0,
+             "PPO (trained)": 0}
+    for name in rows:
+        for k in kinds:
+            kinds[k] += name.startswith(k)
+    assert all(v == 1 for v in kinds.values()), kinds
+    for name, r in rows.items():
+        assert all(k in r for k in REQUIRED), name
+        assert all(math.isfinite(r[k]) for k in ("normalised_score_iqm", "ci_low", "ci_high", "mean_return")), name
+        assert r["ci_low"] - 1e-12 <= r["normalised_score_iqm"] <= r["ci_high"] + 1e-12, name
+    by = {k: next(r for n, r in rows.items() if n.startswith(k)) for k in kinds}
+    # the validation constant is the zero; the hindsight constant (it includes the validation
+    # constant among its candidates) is at or above it and at most the upper reference
+    assert by["validation constant"]["normalised_score_iqm"] == 0.0
+    assert 0.0 <= by["hindsight constant"]["normalised_score_iqm"] <= 1.0 + 1e-12
+    assert by["MPC"]["n_episodes"] == 1 and by["MPC"]["n_seeds"] == 1
+    assert by["MPC"]["normalised_score_iqm"] <= 1.0 + 1e-12
+    ppo = by["PPO (trained)"]
+    assert ppo["n_seeds"] == 2 and ppo["n_episodes"] == 2 and ppo["training_seeds"] == [0, 1000]
+    assert "seed_ci_low" in ppo and ppo["poi_ci_low"] is not None
+    # the smoke run builds its validation constant and contextual fit in its output directory
+    assert (out.parent / "reference_constants.json").exists() and (out.parent / "contextual_transient.json").exists()
+    table = (out.parent / "results_table.md").read_text()
+    assert all(f"| {name} |" in table for name in rows)
+
+
+def test_pretrained_without_shipped_policies_says_what_to_do(tmp_path):
+    with pytest.raises(FileNotFoundError, match="model.zip"):
+        leaderboard.learned_groups([], pretrained=True, pretrained_dir=tmp_path)
+
+
+def test_the_full_mode_needs_the_stored_references_and_names_the_commands(tmp_path):
+    from agents.reference_store import ValidationChoice, save_choice
+    with pytest.raises(LookupError, match="python -m agents.references --tier transient"):
+        leaderboard.run_tier("transient", leaderboard.FULL, [], store=tmp_path / "none.json",
+                             contextual_dir=tmp_path, out_dir=tmp_path, progress=False)
+    store = tmp_path / "store.json"
+    save_choice(ValidationChoice("transient", 1150.0, (50_000, 50_001, 50_002), 850.0, (300.0, 1150.0, 2000.0),
+                                 (-3.0, -1.0, -2.0), 150), store)
+    with pytest.raises(FileNotFoundError, match="python -m agents.contextual --tier transient"):
+        leaderboard.run_tier("transient", leaderboard.FULL, [], store=store, contextual_dir=tmp_path,
+                             out_dir=tmp_path, progress=False)
