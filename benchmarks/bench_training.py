@@ -5,6 +5,7 @@
     python benchmarks/bench_training.py --quick              # same keys, a shrunken smoke run
     python benchmarks/bench_training.py --baseline ../base   # side by side with another checkout
     python benchmarks/bench_training.py --only ppo,eval      # some of the three measurements
+    python benchmarks/bench_training.py --accuracy docs/bench_accuracy.json   # reuse its checks
 
 Every measurement runs in a fresh interpreter (``--worker``) with the measured tree first on
 ``sys.path`` (``PYTHONPATH=TREE``, cwd TREE). The worker uses only ``train.make_env``,
@@ -51,6 +52,13 @@ Measured (the current tree's best run; with a baseline also ``<key>_baseline`` a
     a tree without it reports null shares (the throughputs do not depend on them).
 ``share_eval_{physics_step,physics_settle,reset_load}``
     the same kernel and static-equilibrium timers over the timed evaluation.
+
+``accuracy``
+    the accuracy of the env's integrator beside its speed: the three checks of
+    ``bench_accuracy.py`` (critical preload, steady amplitudes, reward-map classification
+    against dt/4, each with its bound), run after the timed measurements in this process
+    (``--accuracy full``, the default; ``quick`` without the reward maps, the default with
+    ``--quick``; ``none``), or read from a JSON file that ``bench_accuracy.py --out`` wrote.
 
 Times are wall-clock and other load only adds time: the 1-min load average at the start and end
 of every measurement is printed, and the best of the repeats is reported. ``--quick`` shrinks
@@ -562,12 +570,31 @@ def print_table(res: dict) -> None:
         print(f"  {PART_LABELS[part]:32s} " + " ".join(
             f"{_fmt(None if res.get(f'share_{a}_{part}') is None else 100 * res[f'share_{a}_{part}'], '{:7.1f}%'):>8s}"
             for a in ("ppo", "sac")))
+    if res.get("accuracy"):
+        import bench_accuracy
+        print()
+        print("\n".join(bench_accuracy.table_lines(res["accuracy"])))
     ev = _best(res["runs"], "eval", "current")
     if ev is not None and ev["shares"]["physics_step"] is not None:
         sh = ev["shares"]
         print(f"evaluation (current tree): {ev['episodes']} episodes of {ev['episode_steps']} steps in {ev['wall_s']:.1f} s "
               f"(run_policies {ev['run_policies_s']:.1f} s); physics kernel {100 * sh['physics_step']:.1f} % in steps, "
               f"{100 * sh['physics_settle']:.1f} % in settled starts, static equilibrium {100 * sh['reset_load']:.1f} %")
+
+
+def accuracy(how: str, log=None) -> dict | None:
+    """The accuracy checks of bench_accuracy.py for the current tree (see ``accuracy`` above)."""
+    import bench_accuracy
+    if how == "none":
+        return None
+    if how in ("full", "quick"):
+        if log:
+            log(f"accuracy checks ({how}) ...")
+        return bench_accuracy.run(quick=how == "quick")
+    path = Path(how)
+    if not path.exists():
+        raise SystemExit(f"--accuracy {how}: not full, quick or none, and no such file")
+    return json.loads(path.read_text())
 
 
 def main(argv=None) -> int:
@@ -581,6 +608,9 @@ def main(argv=None) -> int:
     ap.add_argument("--profile-steps", type=int, help="cProfile'd env steps after them, first repeat only "
                     "(default 2000; 0: no torch/SB3 split)")
     ap.add_argument("--eval-episodes", type=int, help="evaluation episodes per policy (default 20)")
+    ap.add_argument("--accuracy", metavar="full|quick|none|FILE",
+                    help="accuracy checks beside the speed (default full, quick with --quick), or "
+                         "a JSON file written by bench_accuracy.py --out")
     ap.add_argument("--worker", metavar="SPEC", help=argparse.SUPPRESS)
     a = ap.parse_args(argv)
     if a.worker:
@@ -596,6 +626,7 @@ def main(argv=None) -> int:
     res = run(a.quick, a.baseline.resolve() if a.baseline else None, a.baseline_cache, a.repeats, kinds,
               {"steps": a.steps, "warmup_steps": a.warmup_steps, "profile_steps": a.profile_steps,
                "eval_episodes": a.eval_episodes}, log)
+    res["accuracy"] = accuracy(a.accuracy or ("quick" if a.quick else "full"), log)
     bench_cli.emit(res, a, print_table)
     return 0
 

@@ -50,3 +50,7 @@ def test_bench_training_quick_json_has_every_key_with_finite_values():
         assert run["tree"] == str(ROOT.resolve())
         assert math.isfinite(run["load_1min_start"]) and math.isfinite(run["load_1min_end"])
     assert out["trees"]["current"]["path"] == str(ROOT.resolve())
+    acc = out["accuracy"]                  # --quick: checks 1 and 2 beside the speed, no maps
+    assert acc["map_classification"] is None
+    assert math.isfinite(acc["critical_preload"]["difference_n"])
+    assert isinstance(acc["amplitudes"]["ok"], bool) and len(acc["amplitudes"]["points"]) >= 1

@@ -6,6 +6,7 @@ The parts are swappable (:mod:`.parts`); the difficulty tiers are presets of the
 
 from .actuator import Actuator, PreloadActuator
 from .bearing_preload import BearingPreloadEnv
+from .core import env_params
 from .measurement import StepMeasurement
 from .observation import FEATURE_NAMES, ObservationModel, Sensor
 from .reward import REWARD_TERMS, Reward, VibrationFirstReward
@@ -17,7 +18,7 @@ __all__ = ["BearingPreloadEnv", "BearingPreloadVectorEnv", "BearingPreloadSB3Vec
            "Actuator", "PreloadActuator", "Sensor", "ObservationModel", "Reward",
            "VibrationFirstReward", "StepMeasurement", "Scenario", "ScenarioDistribution",
            "FixedScenario", "ScenarioSampler", "PAPER", "TIERS", "DEFAULT_TIER", "EPISODE_STEPS",
-           "CONTROL_DT_S", "FEATURE_NAMES", "REWARD_TERMS"]
+           "CONTROL_DT_S", "FEATURE_NAMES", "REWARD_TERMS", "env_params"]
 
 
 def __getattr__(name):  # the SB3 adapter imports torch: load it only on demand

@@ -35,7 +35,9 @@ class BearingPreloadEnv(gym.Env):
     radial load, clearance and waviness. The controller has to find the cheapest period-1
     preload of the operating point it is in and follow it when the operating point changes.
 
-    Each ``step`` advances the physics (dt = 10 us, Newmark-beta) by one control interval
+    Each ``step`` advances the physics (Newmark-beta, dt = 25 us with a 1e-10 m equilibrium
+    tolerance: ``bearing_gym.benchmark.ENV_DT_S``, checked against dt/4 in
+    ``benchmarks/bench_accuracy.py``) by one control interval
     (``control_dt_s``, 20 ms: 6.7 shaft turns at 20,000 rpm, enough Poincare points for the
     quasi-periodicity index of one interval).
 
@@ -110,7 +112,10 @@ class BearingPreloadEnv(gym.Env):
       ``reset(options={...})`` pins scenario fields (``shaft_speed_rpm``, ``radial_load_n``,
       ``clearance_m``, ``initial_preload_n``, ... or ``scenario=Scenario(...)``); an unknown
       option raises ``ValueError``.
-    * ``params``: base :class:`~bearing_gym.params.BearingParams` (bearing, rotor, damping, dt).
+    * ``params``: base :class:`~bearing_gym.params.BearingParams` (bearing, rotor, damping,
+      integrator); default :func:`bearing_gym.envs.env_params` (the library's
+      ``default_params`` with the env's 25 us step). Build yours with ``env_params(...)`` to
+      keep that step; ``default_params(...)`` gives the analysis tools' 10 us.
       The rotor damping is one set of coefficients for every episode and preload (a property
       of the spindle): ``params.damping.coefficients`` if given, else the 2 % ratio referred to
       the stiffness at the base operating point (:func:`bearing_gym.envs.core.rotor_damping`).
@@ -136,7 +141,9 @@ class BearingPreloadEnv(gym.Env):
 
     ## Version History
 
-    * v0 (redefined in place before the first release): the reward is about vibration
+    * v0 (redefined in place before the first release): the integrator step of the env is
+      25 us with a 1e-10 m Newmark tolerance (was 10 us, 1e-13 m: 3.3x less kernel time, the
+      accuracy bounds of ``benchmarks/bench_accuracy.py`` hold); the reward is about vibration
       (quasi-periodic gate and non-synchronous amplitude instead of the normalised index; heat
       and fatigue on the envelope's scale; a termination costs at least any continuation), the
       start is settled, difficulty tiers (``tier=``, default ``"transient"``) replace the

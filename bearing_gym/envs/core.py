@@ -18,6 +18,7 @@ from collections import OrderedDict
 import numpy as np
 
 from bearing_gym.analysis.signals import QPI_THRESHOLD
+from bearing_gym.benchmark import ENV_DT_S, ENV_NEWMARK_TOL_M
 
 from .features import F_QPI, N_FEATURES
 from bearing_gym.params import BearingParams, RaceWaviness, Waviness, default_params
@@ -58,6 +59,15 @@ def scenario_params(base: BearingParams, scenario: Scenario) -> BearingParams:
         radial_load_y_n=float(fy0), waviness=wav)
 
 
+def env_params(**overrides) -> BearingParams:
+    """The env's default physics parameters: :func:`~bearing_gym.params.default_params` with the
+    env's integrator (``ENV_DT_S`` = 25 us, ``ENV_NEWMARK_TOL_M`` = 1e-10 m; see
+    :mod:`bearing_gym.benchmark`), then ``overrides`` (flat keywords, as for ``default_params``).
+    Pass ``params=env_params(...)`` to vary the spindle and keep the env's integrator; a
+    ``params`` built by ``default_params`` runs at the library's 10 us / 1e-13 m instead."""
+    return default_params(**{"dt_s": ENV_DT_S, "newmark_tol_m": ENV_NEWMARK_TOL_M, **overrides})
+
+
 def rotor_damping(base: BearingParams) -> np.ndarray:
     """(5,) viscous damping of the env's rotor (x, y, z in N s/m, theta_x, theta_y in N m s/rad).
 
@@ -76,7 +86,7 @@ def rotor_damping(base: BearingParams) -> np.ndarray:
 class PreloadBatch:
     def __init__(self, num_envs: int, base_params: BearingParams | None, control_dt_s: float,
                  actuator: PreloadActuator):
-        self.base = base_params if base_params is not None else default_params()
+        self.base = base_params if base_params is not None else env_params()
         self.actuator = actuator
         self.n = num_envs
         dt = self.base.integrator.dt_s

@@ -68,9 +68,9 @@ class MapPoint:
 
 
 def _cell_points(speed_rpm: float, radial_n: float, clearance_m: float, preloads: tuple[float, ...],
-                 measure_intervals: int, reward) -> list[MapPoint]:
+                 measure_intervals: int, reward, params) -> list[MapPoint]:
     parts = tier_parts("stationary")
-    batch = PreloadBatch(len(preloads), None, CONTROL_DT_S, parts["actuator"])
+    batch = PreloadBatch(len(preloads), params, CONTROL_DT_S, parts["actuator"])
     for b, p in enumerate(preloads):
         batch.load(b, Scenario(speed_profile=((0.0, speed_rpm),), radial_load_profile=((0.0, radial_n),),
                                clearance_m=clearance_m, initial_preload_n=p))
@@ -107,13 +107,17 @@ def _cell_points(speed_rpm: float, radial_n: float, clearance_m: float, preloads
 
 def reward_map(speeds_rpm=GRID_SPEEDS_RPM, radial_loads_n=GRID_RADIAL_LOADS_N,
                clearances_m=GRID_CLEARANCES_M, preloads_n=GRID_PRELOADS_N,
-               measure_intervals: int = MEASURE_INTERVALS, reward=None, progress=None) -> list[MapPoint]:
-    """The map over the grid (every preload of a cell in one batch: numba threads over them)."""
+               measure_intervals: int = MEASURE_INTERVALS, reward=None, progress=None,
+               params=None) -> list[MapPoint]:
+    """The map over the grid (every preload of a cell in one batch: numba threads over them).
+    ``params``: the env's base physics (default :func:`~bearing_gym.envs.env_params`; another
+    integrator step gives the map that ``benchmarks/bench_accuracy.py`` compares with)."""
     reward = reward if reward is not None else tier_parts("stationary")["reward"]
     points: list[MapPoint] = []
     cells = list(itertools.product(speeds_rpm, radial_loads_n, clearances_m))
     for k, (v, f, c) in enumerate(cells):
-        points += _cell_points(float(v), float(f), float(c), tuple(preloads_n), measure_intervals, reward)
+        points += _cell_points(float(v), float(f), float(c), tuple(preloads_n), measure_intervals, reward,
+                                params)
         if progress is not None:
             progress(k + 1, len(cells))
     return points

@@ -251,8 +251,8 @@ def test_episode_results_do_not_depend_on_the_batch_they_run_in():
 
 def _diverging(limit_m):
     # a tight divergence limit makes the integrator "diverge" (terminate the episode) on purpose
-    from bearing_gym import default_params
-    return {"scenario": "paper", "params": default_params(divergence_limit_m=limit_m)}
+    from bearing_gym.envs import env_params
+    return {"scenario": "paper", "params": env_params(divergence_limit_m=limit_m)}
 
 
 def test_evaluation_reports_episodes_that_all_terminate_in_the_same_step(tmp_path):

@@ -146,7 +146,7 @@ def test_bad_constructor_arguments():
 
 
 def test_integrator_failure_terminates_with_reason_and_finite_observation():
-    params = bearing_gym.default_params(divergence_limit_m=2e-5)
+    params = bearing_gym.envs.env_params(divergence_limit_m=2e-5)
     env = BearingPreloadEnv(scenario="paper", params=params)
     env.reset(seed=0)
     for _ in range(20):

@@ -216,7 +216,7 @@ def test_spec_round_trip_with_a_fixed_scenario_and_params():
     import bearing_gym
     sc = Scenario(speed_profile=((0.0, 15000.0), (0.5, 15000.0), (0.7, 18000.0)), clearance_m=8e-6,
                   initial_preload_n=900.0)
-    params = bearing_gym.default_params(damping_ratio=0.03)
+    params = bearing_gym.envs.env_params(damping_ratio=0.03)
     env = gym.make("BearingPreload-v0", scenario=sc, params=params)
     again = gym.make(EnvSpec.from_json(env.spec.to_json()))
     assert again.unwrapped.scenario_dist.scenario == sc

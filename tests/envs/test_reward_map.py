@@ -67,7 +67,7 @@ def test_reward_properties_on_a_fresh_grid():
 
 def test_a_crash_earns_less_than_the_worst_continuation():
     import bearing_gym
-    params = bearing_gym.default_params(divergence_limit_m=2e-5)
+    params = bearing_gym.envs.env_params(divergence_limit_m=2e-5)
     env = BearingPreloadEnv(tier="paper", params=params, episode_steps=30)
     env.reset(seed=0, options={"initial_preload_n": 1000.0})
     low = np.array([-1.0], np.float32)
