@@ -1,23 +1,26 @@
-"""Train a preload controller with Stable-Baselines3 and evaluate it against the baselines.
+"""Train a preload controller with Stable-Baselines3 (PPO, SAC) or sb3-contrib (RecurrentPPO)
+and put it on the leaderboard.
 
-    python train.py                          # the main job: PPO 36k steps, then evaluation (README: time)
+    python train.py                          # the main job: PPO at the leaderboard's budget, then its board (README: time)
     python train.py --algo sac --timesteps 200000 --n-envs 4 --seed 1 --out runs/sac
     python train.py --out runs/ppo --resume  # continue from the last checkpoint in runs/ppo
 
 Writes to --out: model.zip, vec_normalize.pkl (observation/reward statistics, reloaded with
 training=False for evaluation), config.json, checkpoints/ (resumable), tensorboard/ (if
 tensorboard is installed), eval/ (validation: every --eval-freq steps the policy runs on the
-same --val-episodes scenarios, seeds from --val-seed, distinct from the test seeds; the best
-checkpoint and its VecNormalize statistics are kept there), last_model.zip and
-last_vec_normalize.pkl (the final weights), and evaluation.md/.csv/_episodes.csv/_traces.png (agents.evaluate
-on held-out seeds). model.zip is the best validation checkpoint (--select best, the default) or
-the final weights (--select last).
+same --val-episodes scenarios, one per eval env, seeds from --val-seed, distinct from the test
+seeds; the best checkpoint and its VecNormalize statistics are kept there, and every
+validation's per-episode returns in validation_returns.npz for the learning curves),
+last_model.zip and last_vec_normalize.pkl (the final weights), and leaderboard.md/.json
+(agents.after_training: this run, the shipped policies and every reference on the first
+--eval-episodes test seeds, normalised scores). model.zip is the best validation checkpoint
+(--select best, the default) or the final weights (--select last).
 
 It reports as it goes, in plain lines that read the same in a terminal and in a log file
 (``python train.py > train.log 2>&1``): whether the numba kernels are being compiled (a one-off),
 training progress with the rate and the time left every 30 s (in a terminal without
 --no-progress a progress bar instead), each validation, the evaluation's progress, and at the
-end where the model, the evaluation table, the figure and the tensorboard logs are, with a
+end the leaderboard table and where the model, the table and the tensorboard logs are, with a
 command to look at each.
 """
 
@@ -31,17 +34,22 @@ import sys
 import time
 from pathlib import Path
 
-from agents.protocol import TEST, VALIDATION
+from agents.protocol import (STEP_BUDGET_PER_RUN, TEST, VALIDATION, VALIDATION_EPISODES_IN_TRAINING,
+                             VALIDATION_EVERY_STEPS)
 from bearing_gym.benchmark import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
 
 PROGRESS_EVERY_S = 30.0     # at most one progress line per this many seconds
+ALGOS = ("ppo", "sac", "ppo_lstm")
 
 
 def build_parser() -> argparse.ArgumentParser:
-    ap = argparse.ArgumentParser(description="Train PPO or SAC on BearingPreload-v0 and evaluate it.")
-    ap.add_argument("--algo", choices=("ppo", "sac"), default="ppo")
-    ap.add_argument("--timesteps", type=int, default=36000,
-                    help="total environment steps (control intervals); with --resume, the run stops at this total")
+    ap = argparse.ArgumentParser(description="Train PPO, SAC or RecurrentPPO on BearingPreload-v0 and put it on "
+                                             "the leaderboard beside the shipped policies and the references.")
+    ap.add_argument("--algo", choices=ALGOS, default="ppo",
+                    help="ppo, sac (Stable-Baselines3) or ppo_lstm (sb3-contrib's RecurrentPPO, RL Zoo's name)")
+    ap.add_argument("--timesteps", type=int, default=STEP_BUDGET_PER_RUN,
+                    help="total environment steps (control intervals; default: the leaderboard's budget per run); "
+                         "with --resume, the run stops at this total")
     ap.add_argument("--n-envs", type=int, default=2, help="environments stepped together by the batched kernel")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--out", default="runs/ppo", help="output directory")
@@ -51,8 +59,9 @@ def build_parser() -> argparse.ArgumentParser:
                     help="control intervals per episode (default %(default)d, the benchmark's horizon; "
                          "another value is announced as not the benchmark)")
     ap.add_argument("--eval-episodes", type=int, default=20, help="held-out episodes per policy at the end (0: skip)")
-    ap.add_argument("--eval-freq", type=int, default=12000, help="validation period in environment steps")
-    ap.add_argument("--val-episodes", type=int, default=20, help="validation episodes per evaluation (same scenarios each time)")
+    ap.add_argument("--eval-freq", type=int, default=VALIDATION_EVERY_STEPS, help="validation period in environment steps")
+    ap.add_argument("--val-episodes", type=int, default=VALIDATION_EPISODES_IN_TRAINING,
+                    help="validation episodes per evaluation (the same scenarios each time, one per eval env)")
     ap.add_argument("--val-seed", type=int, default=VALIDATION.start,
                     help=f"seed of the validation scenarios (agents.protocol: validation {VALIDATION.start}.., "
                          f"test {TEST.start}..)")
@@ -92,9 +101,16 @@ def warm_up_kernels(n_envs: int) -> None:
 
     import bearing_gym
     from bearing_gym.envs import BearingPreloadVectorEnv
+    import hashlib
+
+    from bearing_gym.envs import kernel as kernel_module
     cache = Path(bearing_gym.NUMBA_CACHE_DIR)
     kernel = "step_batch" if n_envs > 1 else "step_batch_serial"
-    if any(cache.glob(f"**/kernel.{kernel}-*.nbi")):
+    # numba files a module's cache under <dir name>_<sha1 of the dir's absolute path>: another
+    # checkout's index files do not serve this one
+    src_dir = Path(kernel_module.__file__).resolve().parent
+    subdir = f"{src_dir.name}_{hashlib.sha1(str(src_dir).encode()).hexdigest()}"
+    if any(cache.glob(f"**/{subdir}/kernel.{kernel}-*.nbi")):
         print(f"numba kernels: loading them from the cache {cache}", flush=True)
     else:
         print(f"numba kernels: compiling them (a one-off, about a minute on 2 cores; cached in {cache}, "
@@ -110,7 +126,10 @@ def warm_up_kernels(n_envs: int) -> None:
 def announce_outputs(out: Path, evaluated: bool, tensorboard_dir: Path | None) -> None:
     """Where the results are, and one command to look at each."""
     rows = [("model", out / "model.zip", f"bearing-gym-watch --model {out} --tier paper")]
-    if evaluated:
+    if evaluated and (out / "leaderboard.md").exists():
+        rows += [("leaderboard", out / "leaderboard.md", f"cat {out / 'leaderboard.md'}   (numbers: leaderboard.json)"),
+                 ("baseline report", out, f"python -m agents.evaluate --model {out}   (every scripted baseline, traces)")]
+    elif evaluated:
         rows += [("evaluation table", out / "evaluation.md", f"cat {out / 'evaluation.md'}   (numbers: evaluation.csv)"),
                  ("trace figure", out / "evaluation_traces.png",
                   f"{'open' if sys.platform == 'darwin' else 'xdg-open'} {out / 'evaluation_traces.png'}")]
@@ -129,7 +148,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.val_episodes < 1:
         raise SystemExit("train.py: --val-episodes must be >= 1")
     from agents.evaluate import TEST_SEED
-    n_val_envs = min(10, args.val_episodes)
+    n_val_envs = args.val_episodes      # one episode per env: env i runs the scenario of val_seed + i
     if args.val_seed < TEST_SEED + max(args.eval_episodes, 1) and TEST_SEED < args.val_seed + n_val_envs:
         raise SystemExit(f"train.py: --val-seed {args.val_seed} overlaps the held-out test seeds "
                          f"{TEST_SEED}..{TEST_SEED + max(args.eval_episodes, 1) - 1}; pick another")
@@ -144,7 +163,12 @@ def main(argv: list[str] | None = None) -> int:
     torch.set_num_threads(1)          # the environment kernel uses the cores
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    algo_cls = {"ppo": PPO, "sac": SAC}[args.algo]
+    if args.algo == "ppo_lstm":
+        from sb3_contrib import RecurrentPPO
+        algo_cls = RecurrentPPO
+    else:
+        algo_cls = {"ppo": PPO, "sac": SAC}[args.algo]
+    policy = "MlpLstmPolicy" if args.algo == "ppo_lstm" else "MlpPolicy"
     off_policy = args.algo == "sac"   # its replay buffer is checkpointed too, so --resume continues it
     t0 = time.time()
     if args.tier != DEFAULT_TIER or args.episode_steps != EPISODE_STEPS:
@@ -184,7 +208,7 @@ def main(argv: list[str] | None = None) -> int:
             tb = str(out / "tensorboard")
         except ImportError:
             tb = None
-        model = algo_cls("MlpPolicy", env, seed=args.seed, device="cpu", verbose=0,
+        model = algo_cls(policy, env, seed=args.seed, device="cpu", verbose=0,
                          tensorboard_log=tb, **hyperparams(args.algo))
     tb_dir = Path(model.tensorboard_log) if model.tensorboard_log else None
     eval_env = VecNormalize(eval_env, norm_obs=True, norm_reward=False, training=False)
@@ -235,11 +259,11 @@ def main(argv: list[str] | None = None) -> int:
     print(f"trained {model.num_timesteps:,} steps in {train_s / 60:.1f} min -> {out} "
           f"(model.zip: {selected['selected']}, {selected['selected_timesteps']:,} steps)")
     if args.eval_episodes > 0:
-        from agents.evaluate import evaluate
-        print(f"evaluating {out / 'model.zip'} and the scripted baselines on {args.eval_episodes} held-out "
-              f"scenarios (seeds {TEST_SEED}..{TEST_SEED + args.eval_episodes - 1})", flush=True)
-        evaluate(out, episodes=args.eval_episodes, seed=TEST_SEED, episode_steps=args.episode_steps,
-                 tier=args.tier, progress_every_s=PROGRESS_EVERY_S)
+        from agents.after_training import evaluate_run
+        print(f"evaluating {out / 'model.zip'}, the shipped policies and the references on {args.eval_episodes} "
+              f"held-out scenarios (seeds {TEST_SEED}..{TEST_SEED + args.eval_episodes - 1})", flush=True)
+        evaluate_run(out, episodes=args.eval_episodes, tier=args.tier, episode_steps=args.episode_steps,
+                     progress_every_s=PROGRESS_EVERY_S)
         cfg["total_wall_s"] = time.time() - t0
         (out / "config.json").write_text(json.dumps(cfg, indent=2))
     announce_outputs(out, args.eval_episodes > 0, tb_dir)

@@ -8,6 +8,12 @@ env before every evaluation, so every checkpoint is scored on the *same* validat
 and saves the VecNormalize statistics beside the best model (the model alone cannot be
 evaluated without the observation statistics it was trained with).
 
+With one validation episode per eval env (train.py runs as many eval envs as validation
+episodes), env i runs the scenario of seed ``validation_seed + i``; each evaluation's returns
+are kept in that order (``log_path/validation_returns.npz``: ``timesteps``, ``seeds``,
+``returns``), so a learning curve can score every episode against the references of its own
+scenario (:mod:`agents.learning_curves`).
+
 The validation seeds must differ from the held-out test seeds of ``agents.evaluate``
 (``agents.protocol.TEST``, 300000 and up): choosing a checkpoint on the test scenarios would bias the test.
 """
@@ -57,16 +63,31 @@ class ValidationCallback(EvalCallback):
         self.best_dir = Path(best_model_save_path)
         info = self.best_dir / BEST_INFO
         if not resume:
-            for name in (BEST_MODEL, BEST_VECNORMALIZE, BEST_INFO):
+            for name in (BEST_MODEL, BEST_VECNORMALIZE, BEST_INFO, "validation_returns.npz", "evaluations.npz"):
                 (self.best_dir / name).unlink(missing_ok=True)
         elif info.exists():
             self.best_mean_reward = float(json.loads(info.read_text())["mean_validation_return"])
+        self._by_env: dict[int, float] = {}
+        self.per_seed_timesteps: list[int] = []
+        self.per_seed_returns: list[list[float]] = []
+        per_seed = self._per_seed_path()
+        if resume and per_seed is not None and per_seed.exists():
+            with np.load(per_seed) as log:
+                self.per_seed_timesteps = [int(t) for t in log["timesteps"]]
+                self.per_seed_returns = [list(r) for r in log["returns"]]
         history = Path(f"{self.log_path}.npz") if self.log_path else None
         if resume and history is not None and history.exists():
             with np.load(history) as log:
                 self.evaluations_timesteps = [int(t) for t in log["timesteps"]]
                 self.evaluations_results = [list(r) for r in log["results"]]
                 self.evaluations_length = [list(n) for n in log["ep_lengths"]]
+
+    def _on_training_start(self) -> None:
+        # a resumed run continues from its last checkpoint: drop validations made after it
+        keep = [k for k, t in enumerate(self.per_seed_timesteps) if t <= self.model.num_timesteps]
+        self.per_seed_timesteps = [self.per_seed_timesteps[k] for k in keep]
+        self.per_seed_returns = [self.per_seed_returns[k] for k in keep]
+        super()._on_training_start()
 
     def _on_step(self) -> bool:
         due = self.eval_freq > 0 and self.n_calls % self.eval_freq == 0
@@ -78,6 +99,8 @@ class ValidationCallback(EvalCallback):
             self._val_t0 = self._val_last = time.monotonic()
         best_before = self.best_mean_reward
         keep_going = super()._on_step()
+        if due:
+            self._save_per_seed()
         if due and self.best_mean_reward > best_before:
             vn = self.model.get_vec_normalize_env()
             if vn is not None:
@@ -89,8 +112,28 @@ class ValidationCallback(EvalCallback):
                  "episodes": int(self.n_eval_episodes)}, indent=2))
         return keep_going
 
+    def _per_seed_path(self) -> Path | None:
+        # log_path is "<dir>/evaluations" (SB3 appends .npz); the per-seed file goes beside it
+        return Path(self.log_path).with_name("validation_returns.npz") if self.log_path else None
+
+    def _save_per_seed(self) -> None:
+        n = self.eval_env.num_envs
+        if self.n_eval_episodes != n or len(self._by_env) != n:
+            self._by_env = {}
+            return                        # several episodes per env: no fixed seed per episode
+        self.per_seed_timesteps.append(int(self.num_timesteps))
+        self.per_seed_returns.append([self._by_env[i] for i in range(n)])
+        self._by_env = {}
+        path = self._per_seed_path()
+        if path is not None:
+            np.savez(path, timesteps=np.array(self.per_seed_timesteps),
+                     seeds=self.validation_seed + np.arange(n), returns=np.array(self.per_seed_returns))
+
     def _log_success_callback(self, locals_, globals_) -> None:
         super()._log_success_callback(locals_, globals_)
+        info = locals_["info"]
+        if locals_["done"] and "episode" in info:
+            self._by_env[int(locals_["i"])] = float(info["episode"]["r"])
         if self.progress_every_s is None:
             return
         now = time.monotonic()

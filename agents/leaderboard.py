@@ -4,6 +4,7 @@ as normalised scores with rliable statistics.
     python -m agents.leaderboard --smoke                 # the pipeline at a tiny budget (CI; ~1-2 min)
     python -m agents.leaderboard --pretrained            # shipped policies (agents/pretrained/<algo>/)
     python -m agents.leaderboard --model runs/sac_s0 runs/sac_s1000 ... --tier transient
+    python -m agents.leaderboard --pretrained --stored-references    # minutes: references from agents/data
 
 Per tier (``--tier``, default the benchmark's), on ``agents.protocol.TEST_EPISODES`` test
 scenarios (seeds ``TEST.start`` on), one batch per phase:
@@ -18,6 +19,11 @@ scenarios (seeds ``TEST.start`` on), one batch per phase:
    ``--pretrained``, the shipped policy of each algorithm in ``agents/pretrained/<algo>/``
    (``model.zip`` + ``vec_normalize.pkl``, as :func:`agents.evaluate.load_trained` loads them);
 3. the MPC reference on the first ``MPC_EPISODES`` test scenarios (``--processes`` in parallel).
+
+A run of the protocol's size stores phases 1 and 3 (per episode) in
+``agents/data/test_references_<tier>.json`` (:mod:`agents.stored_references`);
+``--stored-references`` reads them instead of computing them, runs the validation constant again
+beside the policies and refuses a store whose returns it does not reproduce.
 
 Scores and statistics: :mod:`agents.scoring` (0 = the validation-chosen constant, 1 = the better
 of MPC and hindsight on the episode - the hindsight alone where the MPC did not run - a
@@ -40,6 +46,7 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
+import math
 import sys
 import time
 from dataclasses import dataclass, field
@@ -53,11 +60,14 @@ from bearing_gym.benchmark import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
 from . import protocol as P
 from . import scoring
 from .contextual import DATA_DIR, ContextualConstant, contextual_path, fit_contextual
-from .evaluate import EvalResult, SB3Policy, load_trained, run_policies, sweep_row
+from .board_report import summarise, to_markdown
+from .evaluate import SB3Policy, load_trained, run_policies, sweep_row
 from .mpc import RecedingHorizonMPC
 from .oracle import MapOracle
+from .policies import ConstantPreload
 from .reference_store import STORE_PATH, ValidationChoice, load_choice, save_choice
 from .references import choose_validation_constant, hindsight_reference, run_mpc
+from .stored_references import StoredReferences, load_references
 
 __all__ = ["Settings", "FULL", "SMOKE", "LearnedGroup", "learned_groups", "run_tier", "summarise",
            "to_markdown", "main"]
@@ -168,95 +178,97 @@ def _contextual(tier: str, s: Settings, contextual_dir: Path, out_dir: Path, pro
     return pol
 
 
-def _metrics(results: list[EvalResult]) -> dict[str, Any]:
-    """Raw metrics over every run and episode of a row (costs per episode, positive)."""
-    def mean(get) -> float:
-        return float(np.mean(np.concatenate([np.atleast_1d(get(r)) for r in results])))
-    out = {"mean_return": mean(lambda r: r.returns),
-           "quasi_periodic_fraction": mean(lambda r: r.qp_fraction),
-           "vibration_amplitude_um": (None if any(r.vibration_um is None for r in results)
-                                      else mean(lambda r: r.vibration_um)),
-           "vibration_cost": -mean(lambda r: r.terms["vibration"]),
-           "heat_cost": -mean(lambda r: r.terms["heat"]),
-           "fatigue_cost": -mean(lambda r: r.terms["fatigue"]),
-           "mean_preload_n": mean(lambda r: r.mean_preload),
-           "terminated_episodes": int(sum(r.terminated_count for r in results))}
-    return out
-
-
-def summarise(kind: str, results: list[EvalResult], r0: np.ndarray, r1: np.ndarray,
-              s: Settings, **extra: Any) -> dict[str, Any]:
-    """One row of results.json: the normalised scores of ``results`` (one EvalResult per run,
-    all on the episodes of ``r0``/``r1``) aggregated with rliable, and the raw metrics."""
-    returns = np.array([r.returns for r in results])                     # (runs, episodes)
-    scores = scoring.normalised_scores(returns, r0, r1)
-    point, lo, hi = scoring.iqm_interval(scores, reps=s.bootstrap_reps)
-    poi, poi_lo, poi_hi = scoring.probability_of_improvement(scores, np.zeros((1, scores.shape[1])), reps=s.poi_reps)
-    row: dict[str, Any] = {
-        "kind": kind, "normalised_score_iqm": point, "ci_low": lo, "ci_high": hi,
-        "ci_method": ("stratified bootstrap over training seeds and episodes (rliable, task_bootstrap=True)"
-                      if scores.shape[0] > 1 else "bootstrap over episodes (single run; rliable, task_bootstrap=True)"),
-        "n_seeds": int(scores.shape[0]), "n_episodes": int(scores.shape[1]),
-        "normalised_score_mean": float(np.mean(scores)),
-        "probability_of_improvement": poi, "poi_ci_low": poi_lo, "poi_ci_high": poi_hi}
-    if scores.shape[0] > 1:
-        _, row["seed_ci_low"], row["seed_ci_high"] = scoring.seed_interval(scores, reps=s.bootstrap_reps)
-    row.update(_metrics(results))
-    row.update(extra)
-    return row
+def _references(tier: str, s: Settings, choice: ValidationChoice, seeds: range, processes: int,
+                progress: bool, stored: StoredReferences | None) -> tuple[StoredReferences, float]:
+    """The validation constant, hindsight and MPC rows on the test episodes: computed (and the
+    MPC's mean wall time per episode), or the stored ones (NaN)."""
+    shape = f"{s.episodes} test episodes of {s.episode_steps} steps"
+    if stored is not None:
+        refs = stored.first(s.episodes)
+        if refs.seeds != tuple(seeds) or refs.episode_steps != s.episode_steps:
+            raise ValueError(f"the stored test references of tier {tier} are for seeds {refs.seeds[0]}.. of "
+                             f"{refs.episode_steps} steps, not {seeds.start}.. of {s.episode_steps}")
+        if refs.validation_preload_n != choice.preload_n:
+            raise ValueError(f"the stored test references of tier {tier} score the validation constant "
+                             f"{refs.validation_preload_n:.0f} N, the store now holds {choice.preload_n:.0f} N: "
+                             f"rebuild them with `python -m agents.leaderboard --tier {tier}`")
+        if refs.hindsight_grid_step_n != s.hindsight_grid_step_n:
+            raise ValueError(f"the stored hindsight reference of tier {tier} searched a {refs.hindsight_grid_step_n:g} N "
+                             f"grid, these settings a {s.hindsight_grid_step_n:g} N one")
+        if refs.mpc_episodes > s.mpc_episodes:          # fewer MPC episodes asked for than stored
+            refs = dataclasses.replace(refs, mpc=refs.first(s.mpc_episodes).mpc if s.mpc_episodes else None)
+        return refs, math.nan
+    hindsight, sweep = hindsight_reference(tier, s.episodes, seeds.start, s.episode_steps, s.hindsight_grid_step_n,
+                                           extra_n=(choice.preload_n,),
+                                           progress=f"{tier} 1/3: constant sweep x {shape}" if progress else None)
+    m = min(s.mpc_episodes, s.episodes)
+    mpc_res, mpc_wall = (None, [math.nan])
+    if m > 0:
+        mpc_res, mpc_wall = run_mpc(tier, seeds[:m], s.episode_steps, s.mpc, processes,
+                                    progress=f"{tier} 3/3: MPC" if progress else None)
+    mpc_settings = {"horizon": s.mpc.horizon, "replan_every": s.mpc.replan_every,
+                    "candidates_n": list(s.mpc.candidates_n)}
+    refs = StoredReferences(tier, tuple(seeds), s.episode_steps, choice.preload_n, s.hindsight_grid_step_n,
+                            sweep_row(sweep, choice.preload_n), hindsight, mpc_res, mpc_settings)
+    return refs, float(np.mean(mpc_wall))
 
 
 def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = STORE_PATH,
              contextual_dir: Path = DATA_DIR, out_dir: Path = Path("."),
-             processes: int = 1, progress: bool = True) -> dict[str, Any]:
-    """Every reference and learned row of ``tier``, as the tier's object of results.json."""
+             processes: int = 1, progress: bool = True, stored: StoredReferences | None = None,
+             save_references_to: Path | None = None) -> dict[str, Any]:
+    """Every reference and learned row of ``tier``, as the tier's object of results.json.
+
+    With ``stored`` the validation constant, hindsight and MPC rows are the stored ones
+    (:mod:`agents.stored_references`; the validation constant runs again beside the policies
+    and must reproduce its stored returns); else they are computed, and written to
+    ``save_references_to`` if given."""
     t0 = time.time()
     deviations: list[str] = []
     choice = _validation_choice(tier, s, store, out_dir, progress)
     deviations += [f"validation constant: {p}" for p in choice.protocol_problems()]
     contextual = _contextual(tier, s, contextual_dir, out_dir, progress)
     seeds = P.held_out_seeds(s.episodes)
+    refs, mpc_wall_s = _references(tier, s, choice, seeds, processes, progress, stored)
+    if stored is None and save_references_to is not None:
+        refs.save(save_references_to)
     shape = f"{s.episodes} test episodes of {s.episode_steps} steps"
-    hindsight, sweep = hindsight_reference(tier, s.episodes, seeds.start, s.episode_steps, s.hindsight_grid_step_n,
-                                           extra_n=(choice.preload_n,),
-                                           progress=f"{tier} 1/3: constant sweep x {shape}" if progress else None)
-    r0_result = sweep_row(sweep, choice.preload_n)
     mine = [g for g in groups if g.tier == tier]
-    policies = [contextual, MapOracle()] + [p for g in mine for p in g.policies]
+    live_constant = [ConstantPreload(choice.preload_n)] if stored is not None else []
+    policies = live_constant + [contextual, MapOracle()] + [p for g in mine for p in g.policies]
     ran = run_policies(policies, s.episodes, seeds.start, s.episode_steps, env_kwargs={"tier": tier},
                        progress=f"{tier} 2/3: {len(policies)} policies x {shape}" if progress else None)
+    if live_constant:
+        refs.check_fresh(ran[0].returns, f"python -m agents.leaderboard --tier {tier}")
+        ran = ran[1:]
     contextual_res, oracle_res, learned_res = ran[0], ran[1], ran[2:]
-    m = min(s.mpc_episodes, s.episodes)
-    mpc_res, mpc_wall = (None, [])
-    if m > 0:
-        mpc_res, mpc_wall = run_mpc(tier, seeds[:m], s.episode_steps, s.mpc, processes,
-                                    progress=f"{tier} 3/3: MPC" if progress else None)
-    r0 = r0_result.returns
+    m, mpc_res = refs.mpc_episodes, refs.mpc
+    r0 = refs.validation_constant.returns
     mpc_full = np.full(s.episodes, np.nan)
     if mpc_res is not None:
         mpc_full[:m] = mpc_res.returns
-    r1 = scoring.upper_reference(hindsight.returns, mpc_full)
+    r1 = scoring.upper_reference(refs.hindsight.returns, mpc_full)
+    reps = dict(bootstrap_reps=s.bootstrap_reps, poi_reps=s.poi_reps)
 
     rows: dict[str, dict] = {}
     rows[f"validation constant ({choice.preload_n:.0f} N)"] = summarise(
-        "reference", [r0_result], r0, r1, s, preload_n=choice.preload_n)
-    rows[f"hindsight constant ({s.hindsight_grid_step_n:g} N grid)"] = summarise(
-        "reference", [hindsight], r0, r1, s)
-    rows["contextual constant"] = summarise("reference", [contextual_res], r0, r1, s,
+        "reference", [refs.validation_constant], r0, r1, **reps, preload_n=choice.preload_n)
+    rows[f"hindsight constant ({refs.hindsight_grid_step_n:g} N grid)"] = summarise(
+        "reference", [refs.hindsight], r0, r1, **reps)
+    rows["contextual constant"] = summarise("reference", [contextual_res], r0, r1, **reps,
                                             features="squares" if contextual.squares else "linear",
                                             fit=contextual.meta)
-    rows["oracle (reward map, nearest cell)"] = summarise("reference", [oracle_res], r0, r1, s)
+    rows["oracle (reward map, nearest cell)"] = summarise("reference", [oracle_res], r0, r1, **reps)
     if mpc_res is not None:
         rows[f"MPC (true simulator, first {m} episodes)"] = summarise(
-            "reference", [mpc_res], r0[:m], r1[:m], s, horizon=s.mpc.horizon,
-            replan_every=s.mpc.replan_every, candidates_n=list(s.mpc.candidates_n),
-            wall_s_per_episode=float(np.mean(mpc_wall)))
+            "reference", [mpc_res], r0[:m], r1[:m], **reps, **refs.mpc_settings,
+            wall_s_per_episode=None if math.isnan(mpc_wall_s) else mpc_wall_s)
     k = 0
     for g in mine:
         runs = learned_res[k:k + len(g.policies)]
         k += len(g.policies)
         headline = g.algo == P.HEADLINE_ALGORITHM and "shipped" not in g.name
-        rows[g.name] = summarise("learned", runs, r0, r1, s, algo=g.algo, training_seeds=g.seeds,
+        rows[g.name] = summarise("learned", runs, r0, r1, **reps, algo=g.algo, training_seeds=g.seeds,
                                  timesteps=g.timesteps, model_dirs=g.dirs, headline=headline)
         want = len(P.training_seeds(g.algo)) if g.algo in P.ALGORITHMS else None
         if "shipped" not in g.name and want is not None and len(g.policies) < want:
@@ -265,6 +277,8 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
         deviations.append(f"{s.episodes} test episodes (the protocol: {P.TEST_EPISODES})")
     if m < min(P.MPC_EPISODES, s.episodes):
         deviations.append(f"MPC on {m} episodes (the protocol: {P.MPC_EPISODES})")
+    if m < min(s.mpc_episodes, s.episodes):
+        deviations.append(f"MPC on the {m} stored episodes ({s.mpc_episodes} asked for)")
     if s.episode_steps != EPISODE_STEPS:
         deviations.append(f"{s.episode_steps}-step episodes (the benchmark: {EPISODE_STEPS})")
     if s.smoke:
@@ -277,43 +291,13 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
             "validation_constant": {"preload_n": choice.preload_n, "episodes": choice.episodes,
                                     "seeds": [choice.seeds[0], choice.seeds[-1]], "grid_step_n": choice.grid_step_n,
                                     "episode_steps": choice.episode_steps},
+            "references": "stored (agents/data, checked against the validation constant run again)" if stored
+            else "computed in this run",
             "upper_reference": upper, "mpc_episodes": m, "mpc_seeds": [seeds.start, seeds.start + m - 1] if m else [],
-            "hindsight_grid_step_n": s.hindsight_grid_step_n, "hindsight_preloads": len(sweep),
+            "hindsight_grid_step_n": refs.hindsight_grid_step_n,
             "denominator_floor": scoring.DENOMINATOR_FLOOR,
             "floored_episodes": scoring.floored_episodes(r0, r1),
             "policies": rows, "wall_s": time.time() - t0}
-
-
-# -- output ----------------------------------------------------------------------------------------
-def _fmt(x: float | None, spec: str = ".2f") -> str:
-    return "-" if x is None else format(x, spec)
-
-
-def to_markdown(results: dict[str, Any]) -> str:
-    """The leaderboard table of each tier, with the notes a reader needs to read it."""
-    lines = [f"# Leaderboard ({results['mode']})", "",
-             f"Generated by `{results['command']}`. Normalised score: 0 = the validation-chosen constant "
-             "preload, 1 = the better of the MPC reference and the hindsight best constant on the episode; "
-             "IQM with 95 % stratified-bootstrap intervals (rliable; over training seeds and episodes, over "
-             "episodes for single-run rows); P(improvement) over the validation constant.", ""]
-    for tier, t in results["tiers"].items():
-        lines += [f"## Tier `{tier}`", "",
-                  f"{t['episodes']} test episodes (seeds {t['seeds'][0]}..{t['seeds'][1]}) of {t['episode_steps']} "
-                  f"intervals; upper reference: {t['upper_reference']}; denominator floor "
-                  f"{t['denominator_floor']:g} reward units, reached on {t['floored_episodes']} episodes.", ""]
-        if not t["protocol"]:
-            lines += ["**Not the protocol:** " + "; ".join(t["protocol_deviations"]) + ".", ""]
-        lines += ["| policy | seeds | episodes | normalised score IQM [95 % CI] | P(improvement) | mean return "
-                  "| time quasi-periodic | vibration (um) | heat cost | fatigue cost | terminated |",
-                  "|---|---|---|---|---|---|---|---|---|---|---|"]
-        for name, r in t["policies"].items():
-            lines.append(f"| {name} | {r['n_seeds']} | {r['n_episodes']} | {r['normalised_score_iqm']:.3f} "
-                         f"[{r['ci_low']:.3f}, {r['ci_high']:.3f}] | {r['probability_of_improvement']:.2f} "
-                         f"| {r['mean_return']:.2f} | {100 * r['quasi_periodic_fraction']:.1f} % "
-                         f"| {_fmt(r['vibration_amplitude_um'])} | {r['heat_cost']:.2f} | {r['fatigue_cost']:.2f} "
-                         f"| {r['terminated_episodes']} |")
-        lines.append("")
-    return "\n".join(lines)
 
 
 def _protocol_summary() -> dict[str, Any]:
@@ -339,6 +323,10 @@ def build_parser() -> argparse.ArgumentParser:
     ap.add_argument("--processes", type=int, default=2, help="parallel MPC episodes (default %(default)d)")
     ap.add_argument("--store", default=str(STORE_PATH), help="stored validation-chosen constants")
     ap.add_argument("--contextual-dir", default=str(DATA_DIR), help="fitted contextual constants")
+    ap.add_argument("--stored-references", action="store_true",
+                    help="take the validation constant, hindsight and MPC rows from agents/data/test_references_<tier>.json "
+                         "(written by a protocol run of this command) instead of computing them: minutes, not an hour")
+    ap.add_argument("--references-dir", default=str(DATA_DIR), help="where the stored test references are")
     ap.add_argument("--out", help="results.json path (default: docs/results.json; with --smoke "
                                   "runs/leaderboard_smoke/results.json); the markdown table goes beside it")
     return ap
@@ -368,9 +356,12 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
                                               "iqm": "rliable.metrics.aggregate_iqm",
                                               "intervals": "rliable.library.get_interval_estimates, 95 %, percentile"},
                                "tiers": {}}
+    protocol_size = not s.smoke and s.episodes == P.TEST_EPISODES and s.mpc_episodes == P.MPC_EPISODES
     for tier in a.tier:
+        stored = load_references(tier, Path(a.references_dir)) if a.stored_references else None
         results["tiers"][tier] = run_tier(tier, s, groups, Path(a.store), Path(a.contextual_dir), out.parent,
-                                          processes=1 if s.smoke else a.processes)
+                                          processes=1 if s.smoke else a.processes, stored=stored,
+                                          save_references_to=Path(a.references_dir) if protocol_size else None)
     unused = [g.name for g in groups if g.tier not in a.tier]
     if unused:
         print(f"note: not evaluated (trained on another tier): {', '.join(unused)}", flush=True)

@@ -45,6 +45,8 @@ class ValidationChoice:
     mean_returns: tuple[float, ...]
     episode_steps: int
     wall_s: float | None = None
+    #: per candidate, the return of each episode of ``seeds`` (the validation score's references)
+    episode_returns: tuple[tuple[float, ...], ...] | None = None
 
     def __post_init__(self) -> None:
         outside = [s for s in self.seeds if s not in VALIDATION]
@@ -57,6 +59,11 @@ class ValidationChoice:
         if len(self.grid_n) != len(self.mean_returns):
             raise ValueError(f"tier {self.tier}: {len(self.grid_n)} candidates but {len(self.mean_returns)} mean returns")
         best = self.grid_n[max(range(len(self.grid_n)), key=lambda k: self.mean_returns[k])] if self.grid_n else None
+        if self.episode_returns is not None and (
+                len(self.episode_returns) != len(self.grid_n)
+                or any(len(r) != len(self.seeds) for r in self.episode_returns)):
+            raise ValueError(f"tier {self.tier}: episode_returns must hold {len(self.seeds)} returns for each of "
+                             f"the {len(self.grid_n)} candidates")
         if self.preload_n != best:
             raise ValueError(f"tier {self.tier}: the chosen preload {self.preload_n} N is not the candidate with the "
                              f"best mean validation return ({best} N); rebuild it: {rebuild_command(self.tier)}")
@@ -78,6 +85,23 @@ class ValidationChoice:
             out.append(f"a {self.grid_step_n:g} N grid (the protocol: {VALIDATION_GRID_STEP_N:g} N over the actuator's range)")
         return out
 
+    def validation_references(self, seeds) -> tuple["np.ndarray", "np.ndarray"]:
+        """(the chosen constant's return, the hindsight best constant's return) on each validation
+        episode of ``seeds`` (each one of :attr:`seeds`): 0 and 1 of the validation score."""
+        import numpy as np
+        if self.episode_returns is None:
+            raise LookupError(f"tier {self.tier}: the stored choice has no per-episode returns; rebuild it: "
+                              f"{rebuild_command(self.tier)}")
+        where = {s: k for k, s in enumerate(self.seeds)}
+        missing = [s for s in seeds if s not in where]
+        if missing:
+            raise ValueError(f"tier {self.tier}: seed {missing[0]} is not one of the stored validation episodes "
+                             f"{self.seeds[0]}..{self.seeds[-1]}")
+        cols = [where[s] for s in seeds]
+        table = np.asarray(self.episode_returns)[:, cols]          # (candidates, episodes)
+        chosen = table[self.grid_n.index(self.preload_n)]
+        return chosen, table.max(axis=0)
+
     def describe(self) -> str:
         return (f"{self.preload_n:.0f} N, chosen on {self.episodes} validation episodes (seeds {self.seeds[0]}.."
                 f"{self.seeds[-1]}, {self.episode_steps} steps) from a {self.grid_step_n:g} N grid "
@@ -96,7 +120,9 @@ class ValidationChoice:
         return cls(tier=tier, preload_n=float(d["preload_n"]), seeds=tuple(int(s) for s in d["seeds"]),
                    grid_step_n=float(d["grid_step_n"]), grid_n=tuple(float(p) for p in d["grid_n"]),
                    mean_returns=tuple(float(r) for r in d["mean_returns"]),
-                   episode_steps=int(d["episode_steps"]), wall_s=d.get("wall_s"))
+                   episode_steps=int(d["episode_steps"]), wall_s=d.get("wall_s"),
+                   episode_returns=(None if d.get("episode_returns") is None else
+                                    tuple(tuple(float(x) for x in r) for r in d["episode_returns"])))
 
 
 def _read(path: Path) -> dict:

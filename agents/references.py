@@ -8,9 +8,11 @@
 
         python -m agents.references --tier transient --episodes 50
 
+    The store keeps every candidate's return on every validation episode too: the chosen
+    constant and the hindsight best constant per validation episode are 0 and 1 of the
+    validation score of train.py's learning curves.
     Cost: 35 constants x episodes x 150 steps (262,500 env steps for the protocol's 50
-    episodes; at the 18 env steps/s measured on the loaded 2-core development machine about
-    4 h per tier, less on an idle machine).
+    episodes).
 (b) The hindsight best constant per episode on the same 50 N grid (:func:`hindsight_reference`:
     :func:`agents.evaluate.constant_sweep` + :func:`agents.evaluate.hindsight_constant`).
 (c) The contextual constant, one preload per episode from its first observation
@@ -61,7 +63,8 @@ def choose_validation_constant(tier: str, episodes: int = VALIDATION_CONSTANT_EP
     means = [float(np.mean(r.returns)) for r in sweep]
     return ValidationChoice(tier=tier, preload_n=grid[int(np.argmax(means))], seeds=tuple(seeds),
                             grid_step_n=float(grid_step_n), grid_n=grid, mean_returns=tuple(means),
-                            episode_steps=episode_steps, wall_s=time.time() - t0)
+                            episode_steps=episode_steps, wall_s=time.time() - t0,
+                            episode_returns=tuple(tuple(float(x) for x in r.returns) for r in sweep))
 
 
 def hindsight_reference(tier: str, episodes: int, seed: int, episode_steps: int = EPISODE_STEPS,

@@ -69,14 +69,19 @@ def test_oracle_keeps_the_paper_preset_periodic(table):
 def test_hyperparameter_files_load_for_rl_zoo_and_sb3():
     sys.path.insert(0, str(ROOT))
     import train
+    from sb3_contrib import RecurrentPPO
     from stable_baselines3 import PPO, SAC
+
+    from agents.protocol import STEP_BUDGET_PER_RUN
     from bearing_gym.envs import BearingPreloadSB3VecEnv
-    for algo, cls in (("ppo", PPO), ("sac", SAC)):
+    for algo, cls, policy in (("ppo", PPO, "MlpPolicy"), ("sac", SAC, "MlpPolicy"),
+                              ("ppo_lstm", RecurrentPPO, "MlpLstmPolicy")):
         cfg = yaml.safe_load((ROOT / "agents" / "hyperparams" / f"{algo}.yml").read_text())
         entry = cfg["BearingPreload-v0"]
-        assert entry["policy"] == "MlpPolicy" and entry["n_timesteps"] > 0
+        # RL Zoo trains the protocol's budget, the same for every algorithm
+        assert entry["policy"] == policy and entry["n_timesteps"] == STEP_BUDGET_PER_RUN
         assert isinstance(entry["policy_kwargs"], str)          # RL Zoo evaluates it
-        cls("MlpPolicy", BearingPreloadSB3VecEnv(num_envs=1, scenario="paper"), **train.hyperparams(algo))
+        cls(policy, BearingPreloadSB3VecEnv(num_envs=1, scenario="paper"), **train.hyperparams(algo))
 
 
 @pytest.mark.parametrize("algo", ["ppo", "sac"])
@@ -89,7 +94,7 @@ def test_smoke_training_saves_reloads_and_evaluates(algo, tmp_path, capsys):
                      "--val-episodes", "2", "--checkpoint-freq", "64", "--no-progress"])
     assert rc == 0
     for name in ("model.zip", "vec_normalize.pkl", "last_model.zip", "last_vec_normalize.pkl",
-                 "config.json", "evaluation.md", "evaluation.csv", "eval/best.json"):
+                 "config.json", "leaderboard.md", "leaderboard.json", "eval/best.json", "eval/validation_returns.npz"):
         assert (out / name).exists(), name
     cfg = json.loads((out / "config.json").read_text())
     assert cfg["num_timesteps"] >= 128
@@ -99,10 +104,11 @@ def test_smoke_training_saves_reloads_and_evaluates(algo, tmp_path, capsys):
     assert "numba kernels: ready" in printed and "validation at 64 steps" in printed
     n = cfg["num_timesteps"]
     assert f"training: 0 -> {n:,} steps" in printed and f"training: {n:,}/{n:,} steps (100 %)" in printed
-    assert "evaluation 1/2: step 16/16 (100 %)" in printed and "evaluation 2/2: step 16/16 (100 %)" in printed
+    # 16-step episodes are not the stored references' 150: the board computes the hindsight here
+    assert "transient 1/3: constant sweep" in printed and "step 16/16 (100 %)" in printed
     announced = printed.split("outputs in")[1].splitlines()[1:]
-    for what, name in (("model", "model.zip"), ("evaluation table", "evaluation.md"),
-                       ("trace figure", "evaluation_traces.png"), ("tensorboard logs", "tensorboard")):
+    for what, name in (("model", "model.zip"), ("leaderboard", "leaderboard.md"),
+                       ("tensorboard logs", "tensorboard")):
         line = next(x for x in announced if x.strip().startswith(what))
         assert str(out / name) in line and (out / name).exists(), line
     # model.zip is the best validation checkpoint, with the statistics saved with it
@@ -110,8 +116,16 @@ def test_smoke_training_saves_reloads_and_evaluates(algo, tmp_path, capsys):
     assert cfg["selected"] == "best validation checkpoint" and cfg["selected_timesteps"] == best["num_timesteps"]
     assert (out / "model.zip").read_bytes() == (out / "eval" / "best_model.zip").read_bytes()
     assert (out / "vec_normalize.pkl").read_bytes() == (out / "eval" / "best_vec_normalize.pkl").read_bytes()
-    text = (out / "evaluation.md").read_text()
-    assert "trained" in text and "constant" in text and "feedback" in text
+    text = (out / "leaderboard.md").read_text()
+    assert f"{algo.upper()} (this run" in text and "validation constant" in text and "hindsight constant" in text
+    assert "contextual constant" in text and "oracle" in text
+    board = json.loads((out / "leaderboard.json").read_text())["tiers"]["transient"]
+    assert board["episodes"] == 2 and board["episode_steps"] == 16 and not board["protocol"]
+    # the per-seed validation returns of the learning curves: one row per validation, env i = seed 50000 + i
+    with np.load(out / "eval" / "validation_returns.npz") as log:
+        assert list(log["seeds"]) == [50000, 50001] and log["returns"].shape == (len(log["timesteps"]), 2)
+        with np.load(out / "eval" / "evaluations.npz") as sb3_log:   # SB3's log holds the same returns
+            np.testing.assert_allclose(np.sort(log["returns"], axis=1), np.sort(sb3_log["results"], axis=1), rtol=1e-6)
     # VecNormalize statistics survive save/load
     with (out / "vec_normalize.pkl").open("rb") as fh:
         vn = pickle.load(fh)
@@ -307,3 +321,31 @@ def test_trace_figure_names_its_scenario_shows_the_hindsight_reference_and_label
     finally:
         import matplotlib.pyplot as plt
         plt.close(fig)
+
+
+def test_recurrent_ppo_trains_saves_and_keeps_its_memory_in_evaluation(tmp_path):
+    """train.py --algo ppo_lstm (sb3-contrib's RecurrentPPO, RL Zoo's name) trains, saves and
+    loads; evaluation carries the LSTM state through an episode: the policy's action on the
+    same observation differs with what it has seen before."""
+    sys.path.insert(0, str(ROOT))
+    import train
+    out = tmp_path / "lstm"
+    rc = train.main(["--algo", "ppo_lstm", "--timesteps", "64", "--n-envs", "2", "--out", str(out),
+                     "--episode-steps", "8", "--eval-episodes", "0", "--eval-freq", "32", "--val-episodes", "2",
+                     "--checkpoint-freq", "32", "--no-progress"])
+    assert rc == 0
+    cfg = json.loads((out / "config.json").read_text())
+    assert cfg["algo"] == "ppo_lstm" and cfg["num_timesteps"] >= 64
+    from sb3_contrib import RecurrentPPO
+
+    from agents.evaluate import load_trained
+    pol = load_trained(out)
+    assert isinstance(pol.model, RecurrentPPO)
+    rng = np.random.default_rng(0)
+    obs = rng.uniform(-1, 1, (1, 15)).astype(np.float32)
+    a0, state = pol.predict(obs, state=None, episode_start=np.array([True]))
+    for _ in range(5):
+        _, state = pol.predict(rng.uniform(-1, 1, (1, 15)).astype(np.float32), state=state,
+                               episode_start=np.array([False]))
+    a1, _ = pol.predict(obs, state=state, episode_start=np.array([False]))
+    assert not np.array_equal(a0, a1)

@@ -35,7 +35,7 @@ def test_smoke_leaderboard_writes_every_row_with_its_statistics(tmp_path):
     out = tmp_path / "lb" / "results.json"
     leaderboard.main(["--smoke", "--out", str(out), "--model", *runs])
     data = json.loads(out.read_text())
-    assert data["mode"] == "smoke" and data["protocol"]["step_budget_chosen_from_throughput"] is False
+    assert data["mode"] == "smoke" and data["protocol"]["step_budget_chosen_from_throughput"] is True
     tier = data["tiers"]["transient"]
     assert not tier["protocol"] and tier["protocol_deviations"][0].startswith("smoke run")
     rows = tier["policies"]
@@ -81,3 +81,25 @@ def test_the_full_mode_needs_the_stored_references_and_names_the_commands(tmp_pa
     with pytest.raises(FileNotFoundError, match="python -m agents.contextual --tier transient"):
         leaderboard.run_tier("transient", leaderboard.FULL, [], store=store, contextual_dir=tmp_path,
                              out_dir=tmp_path, progress=False)
+
+
+def test_stored_references_reproduce_the_computed_rows_and_refuse_a_stale_store(tmp_path):
+    """A run that stores its references and one that reads them give the same reference rows
+    (the stored validation constant is run again and must repeat its returns); a store whose
+    returns the env no longer reproduces is refused with the command that rebuilds it."""
+    from agents.stored_references import load_references
+    s = leaderboard.SMOKE
+    computed = leaderboard.run_tier("transient", s, [], out_dir=tmp_path, progress=False,
+                                    contextual_dir=tmp_path, save_references_to=tmp_path / "refs")
+    refs = load_references("transient", tmp_path / "refs")
+    assert refs.seeds == (300000, 300001) and refs.mpc_episodes == 1
+    again = leaderboard.run_tier("transient", s, [], out_dir=tmp_path, progress=False,
+                                 contextual_dir=tmp_path, stored=refs)
+    assert again["references"].startswith("stored") and computed["references"] == "computed in this run"
+    for name, row in computed["policies"].items():
+        for key in ("normalised_score_iqm", "ci_low", "ci_high", "mean_return", "heat_cost"):
+            assert again["policies"][name][key] == pytest.approx(row[key], rel=1e-12, abs=1e-12), (name, key)
+    refs.validation_constant.returns[1] += 0.01            # an env that changed by 0.01 per episode
+    with pytest.raises(RuntimeError, match="stale.*python -m agents.leaderboard --tier transient"):
+        leaderboard.run_tier("transient", s, [], out_dir=tmp_path, progress=False, contextual_dir=tmp_path,
+                             stored=refs)

@@ -1,0 +1,98 @@
+"""train.py's evaluation: the run just trained and the shipped policies on the leaderboard.
+
+After training, ``train.py`` (README command 1) puts its fresh model beside the shipped policies
+(``agents/pretrained/<algo>/``) and every reference on its ``--eval-episodes`` test episodes
+(the first test seeds of :mod:`agents.protocol`) and prints the leaderboard table with
+normalised scores (:func:`agents.leaderboard.run_tier`). The expensive references (hindsight
+sweep, MPC) come from ``agents/data/test_references_<tier>.json``, stored by the full
+leaderboard run and checked there against the validation constant run again, so the
+evaluation takes minutes; without a store (another episode length, a tier not yet run) they
+are computed here (the hindsight sweep; no MPC) and the evaluation takes longer. A tier with
+no validation-chosen constant or no fitted contextual baseline gets the per-baseline report
+of :func:`agents.evaluate.evaluate` instead.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+from pathlib import Path
+from typing import Any
+
+from bearing_gym.benchmark import EPISODE_STEPS
+
+from . import protocol as P
+from .board_report import to_markdown
+from .contextual import ContextualConstant, contextual_path
+from .leaderboard import FULL, PRETRAINED_DIR, learned_groups, run_tier
+from .reference_store import load_choice
+from .stored_references import load_references
+
+__all__ = ["evaluate_run", "BOARD_BOOTSTRAP_REPS"]
+
+#: bootstrap replications of the after-training board (the full leaderboard uses rliable's 50,000)
+BOARD_BOOTSTRAP_REPS = 5_000
+
+
+def _missing_reference(tier: str) -> str | None:
+    try:
+        load_choice(tier)
+        ContextualConstant.load(contextual_path(tier))
+    except (LookupError, FileNotFoundError) as err:
+        return str(err)
+    return None
+
+
+def evaluate_run(model_dir: str | Path, episodes: int, tier: str, episode_steps: int = EPISODE_STEPS,
+                 pretrained_dir: Path = PRETRAINED_DIR, progress_every_s: float = 30.0) -> dict[str, Any] | None:
+    """The board of ``model_dir``'s fresh model, the shipped policies and the references on the
+    first ``episodes`` test seeds; writes ``leaderboard.md`` and ``leaderboard.json`` into
+    ``model_dir`` and prints the table. Returns the tier's results (None when it fell back to
+    the per-baseline report)."""
+    out = Path(model_dir)
+    missing = _missing_reference(tier)
+    if missing is None and episodes < 2:
+        missing = f"{episodes} episode: an interval needs two"
+    if missing is not None:
+        from .evaluate import TEST_SEED, evaluate
+        print(f"note: no leaderboard for tier {tier} ({missing}); the per-baseline report instead", flush=True)
+        evaluate(out, episodes=episodes, seed=TEST_SEED, episode_steps=episode_steps, tier=tier,
+                 progress_every_s=progress_every_s)
+        return None
+    stored = None
+    if episode_steps == EPISODE_STEPS:
+        try:
+            stored = load_references(tier)
+        except FileNotFoundError as err:
+            print(f"note: {err}; computing the hindsight reference here (no MPC)", flush=True)
+        if stored is not None and episodes > len(stored.seeds):
+            print(f"note: {episodes} episodes asked, {len(stored.seeds)} stored: computing the references here", flush=True)
+            stored = None
+    s = dataclasses.replace(FULL, episodes=episodes, episode_steps=episode_steps,
+                            mpc_episodes=min(stored.mpc_episodes, episodes) if stored else 0,
+                            bootstrap_reps=BOARD_BOOTSTRAP_REPS, poi_reps=max(200, BOARD_BOOTSTRAP_REPS // 10))
+    shipped = pretrained_dir.exists() and any((d / "model.zip").exists() for d in pretrained_dir.glob("*"))
+    groups = learned_groups([out], pretrained=shipped, pretrained_dir=pretrained_dir)
+    fresh = groups[0]
+    steps = fresh.timesteps[0]
+    fresh.name = f"{fresh.algo.upper()} (this run, {steps:,} steps: a demo)" if steps else f"{fresh.algo.upper()} (this run)"
+    if not shipped:
+        print(f"note: no shipped policies in {pretrained_dir}/<algo>/: the board has this run and the references only",
+              flush=True)
+    try:
+        result = run_tier(tier, s, groups, processes=1, stored=stored)
+    except (ValueError, RuntimeError) as err:      # a stale or mismatched store: not worth the training
+        if stored is None:
+            raise
+        print(f"note: {err}; computing the hindsight reference here (no MPC)", flush=True)
+        result = run_tier(tier, dataclasses.replace(s, mpc_episodes=0), groups, processes=1, stored=None)
+    results = {"benchmark": "BearingPreload-v0", "mode": "after training (train.py)",
+               "command": f"python train.py ... --out {out}", "tiers": {tier: result},
+               "protocol": {"test_episodes": P.TEST_EPISODES, "step_budget_per_run": P.STEP_BUDGET_PER_RUN}}
+    (out / "leaderboard.json").write_text(json.dumps(results, indent=1) + "\n")
+    text = to_markdown(results)
+    note = (f"\nThe shipped rows are the leaderboard's policies (docs/results.md: {P.TEST_EPISODES} test episodes, "
+            f"every training seed); this run's row is a short demo on {episodes} of those episodes.\n")
+    (out / "leaderboard.md").write_text(text + note)
+    print(text + note, flush=True)
+    return result

@@ -1,0 +1,155 @@
+"""The leaderboard's training runs: every algorithm of the protocol with each of its training
+seeds, at the protocol's step budget, one run per command so that each fits a session.
+
+    python -m agents.train_protocol --list               # the runs and which are done
+    python -m agents.train_protocol --next               # train the first run not done yet
+    python -m agents.train_protocol --algo sac --run 0   # train one run
+    python -m agents.train_protocol --ship               # copy each algorithm's best run to agents/pretrained/
+
+A run is ``train.py --algo A --seed S --timesteps STEP_BUDGET_PER_RUN --n-envs 2 --eval-episodes 0
+--val-episodes VALIDATION_EPISODES_IN_TRAINING --eval-freq VALIDATION_EVERY_STEPS --out
+runs/protocol/A_sS`` (seeds from :func:`agents.protocol.training_seeds`; validation on the
+first validation seeds, whose references the store holds; model.zip is the best validation
+checkpoint). Its small files are then collected into ``agents/trained/A/seed_S/``
+(``model.zip``, ``vec_normalize.pkl``, ``config.json``, ``eval/validation_returns.npz``,
+``eval/evaluations.npz``, ``eval/best.json``): committed, so that the leaderboard
+(``python -m agents.leaderboard --model agents/trained/*/seed_*``) and the learning curves
+(:mod:`agents.learning_curves`) can be rebuilt on another machine. A run is done when its
+collected ``config.json`` records the whole budget.
+
+``--ship`` copies, per algorithm, the run with the best validation return of its selected
+checkpoint (validation episodes only: the test seeds choose nothing) to
+``agents/pretrained/<algo>/`` (model.zip + vec_normalize.pkl + config.json), the shipped
+policies of ``python -m agents.leaderboard --pretrained`` and of the main job.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import shutil
+import sys
+import time
+from pathlib import Path
+
+from bearing_gym.benchmark import DEFAULT_TIER
+
+from . import protocol as P
+
+__all__ = ["RUNS", "run_dir", "collected_dir", "is_done", "train_run", "collect", "ship", "main"]
+
+ROOT = Path(__file__).resolve().parent.parent
+TRAINED_DIR = Path(__file__).with_name("trained")
+PRETRAINED_DIR = Path(__file__).with_name("pretrained")
+WORK_DIR = ROOT / "runs" / "protocol"
+COLLECT = ("model.zip", "vec_normalize.pkl", "config.json", "eval/validation_returns.npz",
+           "eval/evaluations.npz", "eval/best.json")
+
+#: every (algorithm, run index, training seed) of the protocol, the headline algorithm first
+RUNS = [(a, k, s) for a in sorted(P.ALGORITHMS, key=lambda a: a != P.HEADLINE_ALGORITHM)
+        for k, s in enumerate(P.training_seeds(a))]
+
+
+def run_dir(algo: str, seed: int) -> Path:
+    return WORK_DIR / f"{algo}_s{seed}"
+
+
+def collected_dir(algo: str, seed: int, trained_dir: Path = TRAINED_DIR) -> Path:
+    return trained_dir / algo / f"seed_{seed}"
+
+
+def is_done(algo: str, seed: int, trained_dir: Path = TRAINED_DIR) -> bool:
+    cfg = collected_dir(algo, seed, trained_dir) / "config.json"
+    return cfg.exists() and json.loads(cfg.read_text()).get("num_timesteps", 0) >= P.STEP_BUDGET_PER_RUN
+
+
+def train_args(algo: str, seed: int, out: Path, budget: int = P.STEP_BUDGET_PER_RUN) -> list[str]:
+    """train.py's arguments for one protocol run."""
+    return ["--algo", algo, "--seed", str(seed), "--timesteps", str(budget), "--n-envs", "2",
+            "--tier", DEFAULT_TIER, "--eval-episodes", "0",
+            "--val-episodes", str(P.VALIDATION_EPISODES_IN_TRAINING), "--val-seed", str(P.VALIDATION.start),
+            "--eval-freq", str(P.VALIDATION_EVERY_STEPS), "--out", str(out), "--no-progress"]
+
+
+def collect(src: Path, dst: Path) -> None:
+    """Copy a finished run's small files (:data:`COLLECT`) from ``src`` to ``dst``."""
+    for name in COLLECT:
+        if not (src / name).exists():
+            raise FileNotFoundError(f"{src / name}: the run is not finished (train.py writes it at the end)")
+    for name in COLLECT:
+        (dst / name).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(src / name, dst / name)
+
+
+def train_run(algo: str, seed: int, budget: int = P.STEP_BUDGET_PER_RUN, trained_dir: Path = TRAINED_DIR,
+              work_dir: Path | None = None) -> Path:
+    """Train one run with train.py (resuming its checkpoints if an earlier attempt left them)
+    and collect it; returns the collected directory."""
+    sys.path.insert(0, str(ROOT))
+    import train
+    out = (work_dir or WORK_DIR) / f"{algo}_s{seed}"
+    args = train_args(algo, seed, out, budget)
+    if (out / "checkpoints").exists():
+        args.append("--resume")
+    t0 = time.time()
+    print(f"protocol run: {algo} seed {seed}, {budget:,} steps -> {out}", flush=True)
+    rc = train.main(args)
+    if rc:
+        raise SystemExit(f"train.py failed ({rc}) for {algo} seed {seed}")
+    dst = collected_dir(algo, seed, trained_dir)
+    collect(out, dst)
+    print(f"collected into {dst} ({(time.time() - t0) / 60:.1f} min)", flush=True)
+    return dst
+
+
+def ship(trained_dir: Path = TRAINED_DIR, pretrained_dir: Path = PRETRAINED_DIR) -> dict[str, Path]:
+    """Per algorithm, copy the collected run with the best validation return of its selected
+    checkpoint to ``pretrained_dir/<algo>/``."""
+    shipped = {}
+    for algo in P.ALGORITHMS:
+        runs = [d for d in sorted((trained_dir / algo).glob("seed_*")) if (d / "eval" / "best.json").exists()]
+        if not runs:
+            continue
+        best = max(runs, key=lambda d: json.loads((d / "eval" / "best.json").read_text())["mean_validation_return"])
+        dst = pretrained_dir / algo
+        dst.mkdir(parents=True, exist_ok=True)
+        for name in ("model.zip", "vec_normalize.pkl", "config.json"):
+            shutil.copyfile(best / name, dst / name)
+        shipped[algo] = best
+        print(f"{algo}: shipped {best} -> {dst}")
+    return shipped
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description="The leaderboard's training runs, one per command.")
+    g = ap.add_mutually_exclusive_group(required=True)
+    g.add_argument("--list", action="store_true", help="the protocol's runs and which are done")
+    g.add_argument("--next", action="store_true", help="train the first run not done yet")
+    g.add_argument("--algo", choices=P.ALGORITHMS, help="train this algorithm's run --run")
+    g.add_argument("--ship", action="store_true", help="copy each algorithm's best run to agents/pretrained/")
+    ap.add_argument("--run", type=int, default=0, help="run index (0 .. seeds-1) with --algo")
+    a = ap.parse_args(argv)
+    if a.list:
+        for algo, k, seed in RUNS:
+            print(f"{algo:9s} run {k} seed {seed:6d}: {'done' if is_done(algo, seed) else 'to do'}")
+        print(f"budget {P.STEP_BUDGET_PER_RUN:,} env steps per run")
+        return 0
+    if a.ship:
+        ship()
+        return 0
+    if a.next:
+        todo = [(algo, seed) for algo, _, seed in RUNS if not is_done(algo, seed)]
+        if not todo:
+            print("every protocol run is done")
+            return 0
+        train_run(*todo[0])
+        return 0
+    seeds = P.training_seeds(a.algo)
+    if not 0 <= a.run < len(seeds):
+        raise SystemExit(f"--run must be in 0..{len(seeds) - 1} for {a.algo}")
+    train_run(a.algo, seeds[a.run])
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

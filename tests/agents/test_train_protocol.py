@@ -1,0 +1,59 @@
+"""The protocol's training runs: which runs, with what arguments, and what is kept of each."""
+
+import json
+import sys
+from pathlib import Path
+
+import pytest
+
+from agents import protocol as P
+from agents import train_protocol as T
+
+
+def test_the_runs_are_every_algorithm_with_its_seeds_headline_first():
+    assert T.RUNS[0][0] == P.HEADLINE_ALGORITHM
+    for algo in P.ALGORITHMS:
+        seeds = [s for a, _, s in T.RUNS if a == algo]
+        assert tuple(seeds) == P.training_seeds(algo)
+    assert len(T.RUNS) == P.HEADLINE_SEEDS + (len(P.ALGORITHMS) - 1) * P.OTHER_SEEDS
+
+
+def test_a_run_trains_at_the_budget_on_the_benchmark_and_validates_on_validation_seeds(tmp_path):
+    sys_args = T.train_args("sac", 1000, tmp_path / "r")
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
+    import train  # the arguments parse with train.py's own parser
+    a = train.build_parser().parse_args(sys_args)
+    assert a.timesteps == P.STEP_BUDGET_PER_RUN and a.algo == "sac" and a.seed == 1000
+    assert a.tier == "transient" and a.episode_steps == 150 and a.eval_episodes == 0
+    assert P.range_of(a.val_seed) == "validation" and a.val_episodes == P.VALIDATION_EPISODES_IN_TRAINING
+    assert P.range_of(a.val_seed + a.val_episodes - 1) == "validation"
+    assert a.eval_freq == P.VALIDATION_EVERY_STEPS
+
+
+def _finished_run(d, algo, seed, steps, best_return):
+    (d / "eval").mkdir(parents=True)
+    for name in T.COLLECT:
+        (d / name).write_bytes(b"x")
+    (d / "config.json").write_text(json.dumps({"algo": algo, "seed": seed, "num_timesteps": steps}))
+    (d / "eval" / "best.json").write_text(json.dumps({"mean_validation_return": best_return, "num_timesteps": steps}))
+
+
+def test_collect_keeps_the_small_files_and_ship_takes_the_best_validation_run(tmp_path):
+    trained = tmp_path / "trained"
+    for seed, ret in ((0, -80.0), (1000, -60.0), (2000, -70.0)):
+        src = tmp_path / f"w{seed}"
+        _finished_run(src, "ppo", seed, P.STEP_BUDGET_PER_RUN, ret)
+        T.collect(src, T.collected_dir("ppo", seed, trained))
+        assert T.is_done("ppo", seed, trained)
+    assert not T.is_done("ppo", 3000, trained)
+    shipped = T.ship(trained, tmp_path / "pretrained")
+    assert shipped == {"ppo": T.collected_dir("ppo", 1000, trained)}
+    assert json.loads((tmp_path / "pretrained" / "ppo" / "config.json").read_text())["seed"] == 1000
+
+
+def test_an_unfinished_run_is_not_collected(tmp_path):
+    src = tmp_path / "w"
+    src.mkdir()
+    (src / "model.zip").write_bytes(b"x")
+    with pytest.raises(FileNotFoundError, match="not finished"):
+        T.collect(src, tmp_path / "dst")
