@@ -35,12 +35,12 @@ from pathlib import Path
 from bearing_gym.benchmark import DEFAULT_TIER
 
 from . import protocol as P
+from .leaderboard import PRETRAINED_DIR
 
 __all__ = ["RUNS", "run_dir", "collected_dir", "is_done", "train_run", "collect", "ship", "main"]
 
 ROOT = Path(__file__).resolve().parent.parent
 TRAINED_DIR = Path(__file__).with_name("trained")
-PRETRAINED_DIR = Path(__file__).with_name("pretrained")
 WORK_DIR = ROOT / "runs" / "protocol"
 COLLECT = ("model.zip", "vec_normalize.pkl", "config.json", "eval/validation_returns.npz",
            "eval/evaluations.npz", "eval/best.json")
