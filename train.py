@@ -52,6 +52,9 @@ def build_parser() -> argparse.ArgumentParser:
                          "with --resume, the run stops at this total")
     ap.add_argument("--n-envs", type=int, default=2, help="environments stepped together by the batched kernel")
     ap.add_argument("--seed", type=int, default=0)
+    ap.add_argument("--threads", type=int, default=None,
+                    help="numba threads stepping the environments (default: one per env, at most the cores); "
+                         "1 lets two runs share a 2-core machine; the results do not depend on it")
     ap.add_argument("--out", default="runs/ppo", help="output directory")
     ap.add_argument("--tier", choices=TIER_NAMES, default=DEFAULT_TIER,
                     help="difficulty tier of BearingPreload-v0 (default: the main benchmark, %(default)s)")
@@ -84,12 +87,13 @@ def hyperparams(algo: str) -> dict:
     return out
 
 
-def make_env(n_envs: int, seed: int, episode_steps: int, tier: str):
+def make_env(n_envs: int, seed: int, episode_steps: int, tier: str, threads: int | None = None):
     from stable_baselines3.common.vec_env import VecMonitor
 
     from bearing_gym.envs import BearingPreloadSB3VecEnv
     venv = BearingPreloadSB3VecEnv(num_envs=n_envs, tier=tier, episode_steps=episode_steps,
-                                   max_episode_steps=episode_steps, num_threads=min(n_envs, os.cpu_count() or 1))
+                                   max_episode_steps=episode_steps,
+                                   num_threads=threads or min(n_envs, os.cpu_count() or 1))
     venv.seed(seed)
     return VecMonitor(venv)
 
@@ -145,6 +149,8 @@ def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     if args.timesteps < 1 or args.n_envs < 1:
         raise SystemExit("train.py: --timesteps and --n-envs must be >= 1")
+    if args.threads is not None and not 1 <= args.threads <= (os.cpu_count() or 1):
+        raise SystemExit(f"train.py: --threads must be in [1, {os.cpu_count() or 1}] (the cores), got {args.threads}")
     if args.val_episodes < 1:
         raise SystemExit("train.py: --val-episodes must be >= 1")
     from agents.evaluate import TEST_SEED
@@ -180,8 +186,8 @@ def main(argv: list[str] | None = None) -> int:
           flush=True)
     warm_up_kernels(args.n_envs)
 
-    env = make_env(args.n_envs, args.seed, args.episode_steps, args.tier)
-    eval_env = make_env(n_val_envs, args.val_seed, args.episode_steps, args.tier)
+    env = make_env(args.n_envs, args.seed, args.episode_steps, args.tier, args.threads)
+    eval_env = make_env(n_val_envs, args.val_seed, args.episode_steps, args.tier, args.threads)
     ckpt_dir = out / "checkpoints"
     latest = sorted(ckpt_dir.glob("model_*_steps.zip"), key=lambda p: int(p.stem.split("_")[-2])) if ckpt_dir.exists() else []
     if args.resume and latest:

@@ -68,6 +68,19 @@ class EvalResult:
     def episodes(self) -> int:
         return len(self.returns)
 
+    def first(self, n: int) -> "EvalResult":
+        """The result on the first ``n`` episodes (the per-episode arrays cut; the trace, which
+        is the first episode's, kept)."""
+        if not 1 <= n <= self.episodes:
+            raise ValueError(f"{n} episodes asked of a result on {self.episodes}")
+
+        def cut(x):
+            return None if x is None else np.asarray(x)[:n]
+        return dataclasses.replace(self, returns=cut(self.returns), terms={k: cut(v) for k, v in self.terms.items()},
+                                   qp_fraction=cut(self.qp_fraction), mean_preload=cut(self.mean_preload),
+                                   terminated=cut(self.terminated), first_obs=cut(self.first_obs),
+                                   vibration_um=cut(self.vibration_um))
+
     def ci95(self) -> tuple[float, float]:
         from scipy import stats
         n = len(self.returns)

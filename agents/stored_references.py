@@ -52,14 +52,12 @@ def _result_to_json(r: EvalResult) -> dict[str, Any]:
             "vibration_um": arr(r.vibration_um)}
 
 
-def _result_from_json(d: dict[str, Any], n: int | None = None) -> EvalResult:
-    sl = slice(None) if n is None else slice(0, n)
-
+def _result_from_json(d: dict[str, Any]) -> EvalResult:
     def arr(x):
-        return None if x is None else np.asarray(x, dtype=float)[sl]
+        return None if x is None else np.asarray(x, dtype=float)
     return EvalResult(d["name"], arr(d["returns"]), {k: arr(v) for k, v in d["terms"].items()},
                       arr(d["qp_fraction"]), arr(d["mean_preload"]),
-                      terminated=None if d["terminated"] is None else np.asarray(d["terminated"], bool)[sl],
+                      terminated=None if d["terminated"] is None else np.asarray(d["terminated"], bool),
                       vibration_um=arr(d["vibration_um"]))
 
 
@@ -85,11 +83,10 @@ class StoredReferences:
         """The references of the first ``episodes`` stored episodes."""
         if not 1 <= episodes <= len(self.seeds):
             raise ValueError(f"{episodes} episodes asked, {len(self.seeds)} stored for tier {self.tier}")
-        cut = lambda r, n: _result_from_json(_result_to_json(r), n)  # noqa: E731
         m = min(self.mpc_episodes, episodes)
         return StoredReferences(self.tier, self.seeds[:episodes], self.episode_steps, self.validation_preload_n,
-                              self.hindsight_grid_step_n, cut(self.validation_constant, episodes),
-                              cut(self.hindsight, episodes), cut(self.mpc, m) if m else None, self.mpc_settings)
+                              self.hindsight_grid_step_n, self.validation_constant.first(episodes),
+                              self.hindsight.first(episodes), self.mpc.first(m) if m else None, self.mpc_settings)
 
     def check_fresh(self, live_validation_returns: np.ndarray, rebuild: str) -> None:
         """Raise if the validation constant's returns, run again now on the same episodes,

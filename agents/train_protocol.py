@@ -3,6 +3,7 @@ seeds, at the protocol's step budget, one run per command so that each fits a se
 
     python -m agents.train_protocol --list               # the runs and which are done
     python -m agents.train_protocol --next               # train the first run not done yet
+    python -m agents.train_protocol --next --threads 1   # twice, in two shells: two runs share 2 cores
     python -m agents.train_protocol --algo sac --run 0   # train one run
     python -m agents.train_protocol --ship               # copy each algorithm's best run to agents/pretrained/
 
@@ -15,7 +16,11 @@ checkpoint). Its small files are then collected into ``agents/trained/A/seed_S/`
 ``eval/evaluations.npz``, ``eval/best.json``): committed, so that the leaderboard
 (``python -m agents.leaderboard --model agents/trained/*/seed_*``) and the learning curves
 (:mod:`agents.learning_curves`) can be rebuilt on another machine. A run is done when its
-collected ``config.json`` records the whole budget.
+collected ``config.json`` records the whole budget. A run in progress holds
+``runs/protocol/A_sS/.running`` (its process id), so a second ``--next`` takes the run after it;
+``--threads 1`` gives each run one core (numba thread), so that two runs side by side use a
+2-core machine fully (the environment kernel runs on both cores, the networks' updates on one).
+The results do not depend on the thread count: the environments are stepped independently.
 
 ``--ship`` copies, per algorithm, the run with the best validation return of its selected
 checkpoint (validation episodes only: the test seeds choose nothing) to
@@ -27,6 +32,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
 import shutil
 import sys
 import time
@@ -37,7 +43,7 @@ from bearing_gym.benchmark import DEFAULT_TIER
 from . import protocol as P
 from .leaderboard import PRETRAINED_DIR
 
-__all__ = ["RUNS", "run_dir", "collected_dir", "is_done", "train_run", "collect", "ship", "main"]
+__all__ = ["RUNS", "run_dir", "collected_dir", "is_done", "is_running", "train_run", "collect", "ship", "main"]
 
 ROOT = Path(__file__).resolve().parent.parent
 TRAINED_DIR = Path(__file__).with_name("trained")
@@ -63,12 +69,26 @@ def is_done(algo: str, seed: int, trained_dir: Path = TRAINED_DIR) -> bool:
     return cfg.exists() and json.loads(cfg.read_text()).get("num_timesteps", 0) >= P.STEP_BUDGET_PER_RUN
 
 
-def train_args(algo: str, seed: int, out: Path, budget: int = P.STEP_BUDGET_PER_RUN) -> list[str]:
+def is_running(algo: str, seed: int, work_dir: Path | None = None) -> bool:
+    """Whether a live process holds this run (its ``.running`` file names a process that exists)."""
+    lock = (work_dir or WORK_DIR) / f"{algo}_s{seed}" / ".running"
+    try:
+        pid = int(lock.read_text())
+        os.kill(pid, 0)
+    except (FileNotFoundError, ValueError, ProcessLookupError):
+        return False
+    except PermissionError:            # a process of another user holds the pid
+        return True
+    return True
+
+
+def train_args(algo: str, seed: int, out: Path, budget: int = P.STEP_BUDGET_PER_RUN,
+               threads: int | None = None) -> list[str]:
     """train.py's arguments for one protocol run."""
     return ["--algo", algo, "--seed", str(seed), "--timesteps", str(budget), "--n-envs", "2",
             "--tier", DEFAULT_TIER, "--eval-episodes", "0",
             "--val-episodes", str(P.VALIDATION_EPISODES_IN_TRAINING), "--val-seed", str(P.VALIDATION.start),
-            "--eval-freq", str(P.VALIDATION_EVERY_STEPS), "--out", str(out), "--no-progress"]
+            "--eval-freq", str(P.VALIDATION_EVERY_STEPS), "--out", str(out), "--no-progress"] + (["--threads", str(threads)] if threads else [])
 
 
 def collect(src: Path, dst: Path) -> None:
@@ -82,18 +102,25 @@ def collect(src: Path, dst: Path) -> None:
 
 
 def train_run(algo: str, seed: int, budget: int = P.STEP_BUDGET_PER_RUN, trained_dir: Path = TRAINED_DIR,
-              work_dir: Path | None = None) -> Path:
+              work_dir: Path | None = None, threads: int | None = None) -> Path:
     """Train one run with train.py (resuming its checkpoints if an earlier attempt left them)
     and collect it; returns the collected directory."""
     sys.path.insert(0, str(ROOT))
     import train
     out = (work_dir or WORK_DIR) / f"{algo}_s{seed}"
-    args = train_args(algo, seed, out, budget)
+    if is_running(algo, seed, work_dir):
+        raise SystemExit(f"{algo} seed {seed} is being trained by process {(out / '.running').read_text()}")
+    args = train_args(algo, seed, out, budget, threads)
     if (out / "checkpoints").exists():
         args.append("--resume")
     t0 = time.time()
     print(f"protocol run: {algo} seed {seed}, {budget:,} steps -> {out}", flush=True)
-    rc = train.main(args)
+    out.mkdir(parents=True, exist_ok=True)
+    (out / ".running").write_text(str(os.getpid()))
+    try:
+        rc = train.main(args)
+    finally:
+        (out / ".running").unlink(missing_ok=True)
     if rc:
         raise SystemExit(f"train.py failed ({rc}) for {algo} seed {seed}")
     dst = collected_dir(algo, seed, trained_dir)
@@ -128,10 +155,12 @@ def main(argv: list[str] | None = None) -> int:
     g.add_argument("--algo", choices=P.ALGORITHMS, help="train this algorithm's run --run")
     g.add_argument("--ship", action="store_true", help="copy each algorithm's best run to agents/pretrained/")
     ap.add_argument("--run", type=int, default=0, help="run index (0 .. seeds-1) with --algo")
+    ap.add_argument("--threads", type=int, help="numba threads per run (train.py --threads; 1: two runs share 2 cores)")
     a = ap.parse_args(argv)
     if a.list:
         for algo, k, seed in RUNS:
-            print(f"{algo:9s} run {k} seed {seed:6d}: {'done' if is_done(algo, seed) else 'to do'}")
+            state = "done" if is_done(algo, seed) else "training" if is_running(algo, seed) else "to do"
+            print(f"{algo:9s} run {k} seed {seed:6d}: {state}")
         print(f"budget {P.STEP_BUDGET_PER_RUN:,} env steps per run")
         return 0
     if a.ship:
@@ -142,12 +171,16 @@ def main(argv: list[str] | None = None) -> int:
         if not todo:
             print("every protocol run is done")
             return 0
-        train_run(*todo[0])
+        free = [r for r in todo if not is_running(*r)]
+        if not free:
+            print("every protocol run not done is being trained")
+            return 0
+        train_run(*free[0], threads=a.threads)
         return 0
     seeds = P.training_seeds(a.algo)
     if not 0 <= a.run < len(seeds):
         raise SystemExit(f"--run must be in 0..{len(seeds) - 1} for {a.algo}")
-    train_run(a.algo, seeds[a.run])
+    train_run(a.algo, seeds[a.run], threads=a.threads)
     return 0
 
 

@@ -349,3 +349,17 @@ def test_recurrent_ppo_trains_saves_and_keeps_its_memory_in_evaluation(tmp_path)
                                episode_start=np.array([False]))
     a1, _ = pol.predict(obs, state=state, episode_start=np.array([False]))
     assert not np.array_equal(a0, a1)
+
+
+def test_eval_result_first_cuts_every_per_episode_array():
+    from agents.evaluate import REWARD_TERMS, EvalResult
+    n = 5
+    r = EvalResult("p", np.arange(n, dtype=float), {k: np.arange(n) + i for i, k in enumerate(REWARD_TERMS)},
+                   np.linspace(0, 1, n), np.full(n, 900.0), terminated=np.array([0, 1, 0, 0, 1], bool),
+                   first_obs=np.zeros((n, 14)), vibration_um=np.arange(n) * 0.5)
+    c = r.first(2)
+    assert c.episodes == 2 and c.terminated_count == 1 and c.first_obs.shape == (2, 14)
+    np.testing.assert_array_equal(c.vibration_um, [0.0, 0.5])
+    assert all(len(v) == 2 for v in c.terms.values()) and len(r.returns) == n     # the original untouched
+    with pytest.raises(ValueError, match="6 episodes asked of a result on 5"):
+        r.first(6)

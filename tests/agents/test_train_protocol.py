@@ -57,3 +57,28 @@ def test_an_unfinished_run_is_not_collected(tmp_path):
     (src / "model.zip").write_bytes(b"x")
     with pytest.raises(FileNotFoundError, match="not finished"):
         T.collect(src, tmp_path / "dst")
+
+
+def test_threads_pass_through_to_train_py_and_are_checked(tmp_path):
+    sys.path.insert(0, str(Path(__file__).resolve().parents[2]))
+    import train
+    assert train.build_parser().parse_args(T.train_args("ppo", 0, tmp_path / "r")).threads is None
+    assert train.build_parser().parse_args(T.train_args("ppo", 0, tmp_path / "r", threads=1)).threads == 1
+    with pytest.raises(SystemExit, match="--threads must be in"):
+        train.main(["--threads", "0", "--out", str(tmp_path / "r")])
+
+
+def test_a_run_held_by_a_live_process_is_skipped_and_a_stale_lock_is_not(tmp_path):
+    import os
+    import subprocess
+    d = tmp_path / "sac_s1000"
+    d.mkdir()
+    assert not T.is_running("sac", 1000, tmp_path)                  # no lock
+    (d / ".running").write_text(str(os.getpid()))
+    assert T.is_running("sac", 1000, tmp_path)                      # this process holds it
+    with pytest.raises(SystemExit, match="being trained by process"):
+        T.train_run("sac", 1000, budget=10, trained_dir=tmp_path / "t", work_dir=tmp_path)
+    dead = subprocess.Popen([sys.executable, "-c", "pass"])
+    dead.wait()
+    (d / ".running").write_text(str(dead.pid))
+    assert not T.is_running("sac", 1000, tmp_path)                  # its process has ended

@@ -138,6 +138,23 @@ def test_num_threads_applies_to_the_kernel_call_only():
         numba.set_num_threads(callers)
 
 
+@pytest.mark.skipif(numba.config.NUMBA_NUM_THREADS < 2, reason="needs 2 numba threads")
+def test_the_thread_count_does_not_change_a_bit():
+    """Each environment's arithmetic is its own: one thread or two give identical trajectories
+    (what lets protocol runs share the cores with ``train.py --threads 1``)."""
+    out = []
+    for threads in (1, 2):
+        v = BearingPreloadVectorEnv(num_envs=3, tier="transient", episode_steps=4, num_threads=threads)
+        obs, _ = v.reset(seed=7)
+        rows = [obs]
+        for k in range(4):
+            obs, rew, term, trunc, _ = v.step(np.full((3, 1), 0.2 * k - 0.3, dtype=np.float32))
+            rows += [obs, rew, term, trunc]
+        out.append(rows)
+    for a, b in zip(*out):
+        np.testing.assert_array_equal(a, b)
+
+
 def test_gymnasium_checkers_with_rendering(monkeypatch, tmp_path):
     import tempfile
 
