@@ -54,7 +54,7 @@ def build_parser() -> argparse.ArgumentParser:
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--threads", type=int, default=None,
                     help="numba threads stepping the environments (default: one per env, at most the cores); "
-                         "1 lets two runs share a 2-core machine; the results do not depend on it")
+                         "the results do not depend on it")
     ap.add_argument("--out", default="runs/ppo", help="output directory")
     ap.add_argument("--tier", choices=TIER_NAMES, default=DEFAULT_TIER,
                     help="difficulty tier of BearingPreload-v0 (default: the main benchmark, %(default)s)")

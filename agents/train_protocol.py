@@ -3,7 +3,7 @@ seeds, at the protocol's step budget, one run per command so that each fits a se
 
     python -m agents.train_protocol --list               # the runs and which are done
     python -m agents.train_protocol --next               # train the first run not done yet
-    python -m agents.train_protocol --next --threads 1   # twice, in two shells: two runs share 2 cores
+    python -m agents.train_protocol --next --threads 1   # one numba thread (runs side by side on more cores)
     python -m agents.train_protocol --algo sac --run 0   # train one run
     python -m agents.train_protocol --ship               # copy each algorithm's best run to agents/pretrained/
 
@@ -18,9 +18,11 @@ checkpoint). Its small files are then collected into ``agents/trained/A/seed_S/`
 (:mod:`agents.learning_curves`) can be rebuilt on another machine. A run is done when its
 collected ``config.json`` records the whole budget. A run in progress holds
 ``runs/protocol/A_sS/.running`` (its process id), so a second ``--next`` takes the run after it;
-``--threads 1`` gives each run one core (numba thread), so that two runs side by side use a
-2-core machine fully (the environment kernel runs on both cores, the networks' updates on one).
-The results do not depend on the thread count: the environments are stepped independently.
+``--threads 1`` gives a run one numba thread (train.py ``--threads``), for running runs side by
+side on a machine with more cores than a run uses; the results do not depend on the thread
+count (the environments are stepped independently). On the 2-core machine it does not pay: two
+SAC runs side by side (2 + 1 threads) made 79 env steps/s together, one run alone about 80-90,
+so the protocol's runs go one after another.
 
 ``--ship`` copies, per algorithm, the run with the best validation return of its selected
 checkpoint (validation episodes only: the test seeds choose nothing) to
@@ -155,7 +157,7 @@ def main(argv: list[str] | None = None) -> int:
     g.add_argument("--algo", choices=P.ALGORITHMS, help="train this algorithm's run --run")
     g.add_argument("--ship", action="store_true", help="copy each algorithm's best run to agents/pretrained/")
     ap.add_argument("--run", type=int, default=0, help="run index (0 .. seeds-1) with --algo")
-    ap.add_argument("--threads", type=int, help="numba threads per run (train.py --threads; 1: two runs share 2 cores)")
+    ap.add_argument("--threads", type=int, help="numba threads per run (train.py --threads; default one per env, at most the cores)")
     a = ap.parse_args(argv)
     if a.list:
         for algo, k, seed in RUNS:
