@@ -94,7 +94,7 @@ def plot(curves: dict[str, dict], path: str | Path, title: str = "") -> None:
     fig, ax = plt.subplots(figsize=(7, 4.2))
     for algo, c in curves.items():
         t = np.array(c["timesteps"]) / 1000.0
-        line, = ax.plot(t, c["iqm"], marker="o", ms=3, label=f"{algo.upper()} ({len(c['seeds'])} seeds)")
+        line, = ax.plot(t, c["iqm"], marker="o", ms=3, label=f"{algo.upper()} ({len(c['seeds'])} seed{'s' if len(c['seeds']) > 1 else ''})")
         ax.fill_between(t, c["ci_low"], c["ci_high"], color=line.get_color(), alpha=0.2)
     ax.axhline(0.0, color="k", lw=0.8, ls="--")
     ax.axhline(1.0, color="k", lw=0.8, ls=":")
