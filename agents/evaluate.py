@@ -81,6 +81,27 @@ class EvalResult:
                                    terminated=cut(self.terminated), first_obs=cut(self.first_obs),
                                    vibration_um=cut(self.vibration_um))
 
+    @staticmethod
+    def concat(parts: "list[EvalResult]") -> "EvalResult":
+        """One result of ``parts`` run on consecutive episode ranges, in order (name, trace and
+        scenario from the first part; an optional per-episode array kept only if every part has it)."""
+        if not parts:
+            raise ValueError("nothing to concatenate")
+        if len({p.name for p in parts}) != 1:
+            raise ValueError(f"results of different policies: {sorted({p.name for p in parts})}")
+        if any(set(p.terms) != set(parts[0].terms) for p in parts):
+            raise ValueError("results with different reward terms")
+
+        def join(get):
+            xs = [get(p) for p in parts]
+            return None if any(x is None for x in xs) else np.concatenate([np.asarray(x) for x in xs])
+        terminated = join(lambda p: np.zeros(p.episodes, bool) if p.terminated is None else p.terminated)
+        return dataclasses.replace(parts[0], returns=join(lambda p: p.returns),
+                                   terms={k: join(lambda p, k=k: p.terms[k]) for k in parts[0].terms},
+                                   qp_fraction=join(lambda p: p.qp_fraction), mean_preload=join(lambda p: p.mean_preload),
+                                   terminated=terminated, first_obs=join(lambda p: p.first_obs),
+                                   vibration_um=join(lambda p: p.vibration_um))
+
     def ci95(self) -> tuple[float, float]:
         from scipy import stats
         n = len(self.returns)

@@ -23,7 +23,8 @@ scenarios (seeds ``TEST.start`` on), one batch per phase:
 A run of the protocol's size stores phases 1 and 3 (per episode) in
 ``agents/data/test_references_<tier>.json`` (:mod:`agents.stored_references`);
 ``--stored-references`` reads them instead of computing them, runs the validation constant again
-beside the policies and refuses a store whose returns it does not reproduce.
+beside the policies and refuses a store whose returns it does not reproduce. The same store can
+be built in parts spread over sessions: :mod:`agents.reference_parts`.
 
 Scores and statistics: :mod:`agents.scoring` (0 = the validation-chosen constant, 1 = the better
 of MPC and hindsight on the episode - the hindsight alone where the MPC did not run - a
@@ -197,7 +198,8 @@ def _references(tier: str, s: Settings, choice: ValidationChoice, seeds: range, 
                              f"grid, these settings a {s.hindsight_grid_step_n:g} N one")
         if refs.mpc_episodes > s.mpc_episodes:          # fewer MPC episodes asked for than stored
             refs = dataclasses.replace(refs, mpc=refs.first(s.mpc_episodes).mpc if s.mpc_episodes else None)
-        return refs, math.nan
+        wall = refs.mpc_wall_s_per_episode
+        return refs, math.nan if wall is None or refs.mpc is None else float(wall)
     hindsight, sweep = hindsight_reference(tier, s.episodes, seeds.start, s.episode_steps, s.hindsight_grid_step_n,
                                            extra_n=(choice.preload_n,),
                                            progress=f"{tier} 1/3: constant sweep x {shape}" if progress else None)
@@ -208,9 +210,11 @@ def _references(tier: str, s: Settings, choice: ValidationChoice, seeds: range, 
                                     progress=f"{tier} 3/3: MPC" if progress else None)
     mpc_settings = {"horizon": s.mpc.horizon, "replan_every": s.mpc.replan_every,
                     "candidates_n": list(s.mpc.candidates_n)}
+    wall = float(np.mean(mpc_wall))
     refs = StoredReferences(tier, tuple(seeds), s.episode_steps, choice.preload_n, s.hindsight_grid_step_n,
-                            sweep_row(sweep, choice.preload_n), hindsight, mpc_res, mpc_settings)
-    return refs, float(np.mean(mpc_wall))
+                            sweep_row(sweep, choice.preload_n), hindsight, mpc_res, mpc_settings,
+                            None if math.isnan(wall) else wall)
+    return refs, wall
 
 
 def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = STORE_PATH,

@@ -8,7 +8,8 @@ in order), every metric the leaderboard reports of
 * the hindsight best constant of the 50 N grid,
 * the MPC with the true simulator on the first ``MPC_EPISODES`` of them,
 
-written by the full leaderboard run (``python -m agents.leaderboard``, which computes them) and
+written by the full leaderboard run (``python -m agents.leaderboard``, which computes them) or
+joined from parts (``python -m agents.reference_parts``, the same rows computed a part at a time) and
 read by ``python -m agents.leaderboard --stored-references`` and by ``train.py``'s evaluation,
 on a prefix of the stored episodes. A stored set is only valid for the env it was computed on:
 every reader runs the validation-chosen constant again on its episodes and refuses the store
@@ -30,7 +31,8 @@ from bearing_gym.envs.reward import REWARD_TERMS
 
 from .evaluate import EvalResult
 
-__all__ = ["StoredReferences", "references_path", "load_references", "STALE_TOLERANCE", "DATA_DIR"]
+__all__ = ["StoredReferences", "references_path", "load_references", "result_to_json", "result_from_json",
+           "STALE_TOLERANCE", "DATA_DIR"]
 
 DATA_DIR = Path(__file__).with_name("data")
 #: Reward units per episode: the same run on the same machine repeats bit for bit; another
@@ -43,7 +45,7 @@ def references_path(tier: str, data_dir: Path = DATA_DIR) -> Path:
     return Path(data_dir) / f"test_references_{tier}.json"
 
 
-def _result_to_json(r: EvalResult) -> dict[str, Any]:
+def result_to_json(r: EvalResult) -> dict[str, Any]:
     def arr(x):
         return None if x is None else [float(v) for v in np.asarray(x, dtype=float)]
     return {"name": r.name, "returns": arr(r.returns), "terms": {k: arr(v) for k, v in r.terms.items()},
@@ -52,7 +54,7 @@ def _result_to_json(r: EvalResult) -> dict[str, Any]:
             "vibration_um": arr(r.vibration_um)}
 
 
-def _result_from_json(d: dict[str, Any]) -> EvalResult:
+def result_from_json(d: dict[str, Any]) -> EvalResult:
     def arr(x):
         return None if x is None else np.asarray(x, dtype=float)
     return EvalResult(d["name"], arr(d["returns"]), {k: arr(v) for k, v in d["terms"].items()},
@@ -74,6 +76,7 @@ class StoredReferences:
     hindsight: EvalResult
     mpc: EvalResult | None           # on the first len(mpc.returns) episodes
     mpc_settings: dict[str, Any]
+    mpc_wall_s_per_episode: float | None = None   # the MPC's mean wall time per episode
 
     @property
     def mpc_episodes(self) -> int:
@@ -86,7 +89,8 @@ class StoredReferences:
         m = min(self.mpc_episodes, episodes)
         return StoredReferences(self.tier, self.seeds[:episodes], self.episode_steps, self.validation_preload_n,
                               self.hindsight_grid_step_n, self.validation_constant.first(episodes),
-                              self.hindsight.first(episodes), self.mpc.first(m) if m else None, self.mpc_settings)
+                              self.hindsight.first(episodes), self.mpc.first(m) if m else None, self.mpc_settings,
+                                self.mpc_wall_s_per_episode if m else None)
 
     def check_fresh(self, live_validation_returns: np.ndarray, rebuild: str) -> None:
         """Raise if the validation constant's returns, run again now on the same episodes,
@@ -105,9 +109,10 @@ class StoredReferences:
         return {"about": __doc__.split("\n\n")[0].replace("\n", " "), "tier": self.tier, "seeds": list(self.seeds),
                 "episode_steps": self.episode_steps, "validation_preload_n": self.validation_preload_n,
                 "hindsight_grid_step_n": self.hindsight_grid_step_n, "mpc_settings": self.mpc_settings,
-                "validation constant": _result_to_json(self.validation_constant),
-                "hindsight": _result_to_json(self.hindsight),
-                "mpc": None if self.mpc is None else _result_to_json(self.mpc)}
+                "validation constant": result_to_json(self.validation_constant),
+                "hindsight": result_to_json(self.hindsight),
+                "mpc": None if self.mpc is None else result_to_json(self.mpc),
+                "mpc_wall_s_per_episode": self.mpc_wall_s_per_episode}
 
     @classmethod
     def from_json(cls, d: dict[str, Any]) -> "StoredReferences":
@@ -119,8 +124,9 @@ class StoredReferences:
                 raise ValueError(f"stored {k} terms {sorted(d[k]['terms'])} are not the reward's {list(REWARD_TERMS)}")
         return cls(d["tier"], tuple(int(s) for s in d["seeds"]), int(d["episode_steps"]),
                    float(d["validation_preload_n"]), float(d["hindsight_grid_step_n"]),
-                   _result_from_json(d["validation constant"]), _result_from_json(d["hindsight"]),
-                   None if d["mpc"] is None else _result_from_json(d["mpc"]), dict(d.get("mpc_settings") or {}))
+                   result_from_json(d["validation constant"]), result_from_json(d["hindsight"]),
+                   None if d["mpc"] is None else result_from_json(d["mpc"]), dict(d.get("mpc_settings") or {}),
+                   d.get("mpc_wall_s_per_episode"))
 
     def save(self, data_dir: Path = DATA_DIR) -> Path:
         path = references_path(self.tier, data_dir)

@@ -1,0 +1,58 @@
+"""The stored test references built in parts equal the one-go computation, episode by episode."""
+
+import json
+
+import numpy as np
+import pytest
+
+from agents import protocol as P
+from agents import reference_parts as RP
+from agents.evaluate import sweep_row
+from agents.leaderboard import FULL, SMOKE
+from agents.reference_store import load_choice
+from agents.references import hindsight_reference, run_mpc
+from agents.stored_references import load_references
+
+
+def test_the_parts_cover_the_test_episodes_and_the_mpc_subset_once():
+    parts = RP.plan(FULL)
+    sweep = [s for k, f, n in parts if k == "sweep" for s in range(f, f + n)]
+    mpc = [s for k, f, n in parts if k == "mpc" for s in range(f, f + n)]
+    assert sweep == list(P.held_out_seeds(P.TEST_EPISODES))
+    assert mpc == list(P.held_out_seeds(P.TEST_EPISODES))[:P.MPC_EPISODES]
+
+
+def test_parts_merge_to_the_one_go_references_and_a_missing_or_foreign_part_is_refused(tmp_path, monkeypatch):
+    tier = "transient"
+    monkeypatch.setattr(RP, "SWEEP_PART_EPISODES", 1)         # two sweep parts of one episode each
+    plan = RP.plan(SMOKE)
+    assert [p[0] for p in plan] == ["sweep", "sweep", "mpc"]
+    for part in plan[:2]:
+        RP.compute_part(tier, *part, s=SMOKE, data_dir=tmp_path, processes=1)
+    with pytest.raises(FileNotFoundError, match="1 parts of tier transient are missing"):
+        RP.merge(tier, SMOKE, tmp_path)
+    RP.compute_part(tier, *plan[2], s=SMOKE, data_dir=tmp_path, processes=1)
+    RP.merge(tier, SMOKE, tmp_path)
+    refs = load_references(tier, tmp_path)
+
+    choice = load_choice(tier)
+    seeds = P.held_out_seeds(SMOKE.episodes)
+    hindsight, sweep = hindsight_reference(tier, SMOKE.episodes, seeds.start, SMOKE.episode_steps,
+                                           SMOKE.hindsight_grid_step_n, extra_n=(choice.preload_n,))
+    mpc, _ = run_mpc(tier, seeds[:SMOKE.mpc_episodes], SMOKE.episode_steps, SMOKE.mpc)
+    constant = sweep_row(sweep, choice.preload_n)
+    assert refs.seeds == tuple(seeds) and refs.validation_preload_n == choice.preload_n
+    for got, want in ((refs.hindsight, hindsight), (refs.mpc, mpc)):
+        np.testing.assert_array_equal(got.returns, want.returns)          # bit for bit
+        np.testing.assert_array_equal(got.qp_fraction, want.qp_fraction)
+        for k in want.terms:
+            np.testing.assert_array_equal(got.terms[k], want.terms[k])
+    np.testing.assert_array_equal(refs.validation_constant.returns, constant.returns)
+    assert refs.mpc_wall_s_per_episode > 0
+
+    part = tmp_path / "test_references_transient_parts" / f"sweep_{seeds.start}_1.json"
+    d = json.loads(part.read_text())
+    d["hindsight_grid_step_n"] = 100.0
+    part.write_text(json.dumps(d))
+    with pytest.raises(ValueError, match="hindsight_grid_step_n = 100.0"):
+        RP.merge(tier, SMOKE, tmp_path)
