@@ -45,7 +45,7 @@ from bearing_gym.benchmark import DEFAULT_TIER
 from . import protocol as P
 from .leaderboard import PRETRAINED_DIR
 
-__all__ = ["RUNS", "run_dir", "collected_dir", "is_done", "is_running", "train_run", "collect", "ship", "main"]
+__all__ = ["RUNS", "run_dir", "collected_dir", "is_done", "is_running", "run_summary", "train_run", "collect", "ship", "main"]
 
 ROOT = Path(__file__).resolve().parent.parent
 TRAINED_DIR = Path(__file__).with_name("trained")
@@ -82,6 +82,17 @@ def is_running(algo: str, seed: int, work_dir: Path | None = None) -> bool:
     except PermissionError:            # a process of another user holds the pid
         return True
     return True
+
+
+def run_summary(algo: str, seed: int, trained_dir: Path = TRAINED_DIR) -> str:
+    """A done run's selected checkpoint, its mean validation return and the training wall time."""
+    d = collected_dir(algo, seed, trained_dir)
+    if not (d / "eval" / "best.json").exists():
+        return ""
+    best = json.loads((d / "eval" / "best.json").read_text())
+    cfg = json.loads((d / "config.json").read_text())
+    return (f", best checkpoint {best['num_timesteps']:,} steps, validation return {best['mean_validation_return']:.1f}"
+            f", {cfg.get('train_wall_s', float('nan')) / 60:.1f} min training")
 
 
 def train_args(algo: str, seed: int, out: Path, budget: int = P.STEP_BUDGET_PER_RUN,
@@ -162,7 +173,7 @@ def main(argv: list[str] | None = None) -> int:
     if a.list:
         for algo, k, seed in RUNS:
             state = "done" if is_done(algo, seed) else "training" if is_running(algo, seed) else "to do"
-            print(f"{algo:9s} run {k} seed {seed:6d}: {state}")
+            print(f"{algo:9s} run {k} seed {seed:6d}: {state}{run_summary(algo, seed)}")
         print(f"budget {P.STEP_BUDGET_PER_RUN:,} env steps per run")
         return 0
     if a.ship:

@@ -82,3 +82,11 @@ def test_a_run_held_by_a_live_process_is_skipped_and_a_stale_lock_is_not(tmp_pat
     dead.wait()
     (d / ".running").write_text(str(dead.pid))
     assert not T.is_running("sac", 1000, tmp_path)                  # its process has ended
+
+
+def test_list_summarises_a_done_run_and_nothing_of_one_not_done(tmp_path):
+    src = tmp_path / "w"
+    _finished_run(src, "sac", 0, P.STEP_BUDGET_PER_RUN, -123.04)
+    T.collect(src, T.collected_dir("sac", 0, tmp_path))
+    assert T.run_summary("sac", 1000, tmp_path) == ""
+    assert "best checkpoint 100,000 steps, validation return -123.0" in T.run_summary("sac", 0, tmp_path)
