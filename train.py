@@ -149,8 +149,10 @@ def main(argv: list[str] | None = None) -> int:
     args = build_parser().parse_args(argv)
     if args.timesteps < 1 or args.n_envs < 1:
         raise SystemExit("train.py: --timesteps and --n-envs must be >= 1")
-    if args.threads is not None and not 1 <= args.threads <= (os.cpu_count() or 1):
-        raise SystemExit(f"train.py: --threads must be in [1, {os.cpu_count() or 1}] (the cores), got {args.threads}")
+    import numba
+    if args.threads is not None and not 1 <= args.threads <= numba.config.NUMBA_NUM_THREADS:
+        raise SystemExit(f"train.py: --threads must be in [1, {numba.config.NUMBA_NUM_THREADS}] (numba's threads, "
+                         f"one per core unless NUMBA_NUM_THREADS says otherwise), got {args.threads}")
     if args.val_episodes < 1:
         raise SystemExit("train.py: --val-episodes must be >= 1")
     from agents.evaluate import TEST_SEED

@@ -95,7 +95,8 @@ class EvalResult:
         def join(get):
             xs = [get(p) for p in parts]
             return None if any(x is None for x in xs) else np.concatenate([np.asarray(x) for x in xs])
-        terminated = join(lambda p: np.zeros(p.episodes, bool) if p.terminated is None else p.terminated)
+        terminated = (None if all(p.terminated is None for p in parts) else   # None: no episode ended early
+                      join(lambda p: np.zeros(p.episodes, bool) if p.terminated is None else p.terminated))
         return dataclasses.replace(parts[0], returns=join(lambda p: p.returns),
                                    terms={k: join(lambda p, k=k: p.terms[k]) for k in parts[0].terms},
                                    qp_fraction=join(lambda p: p.qp_fraction), mean_preload=join(lambda p: p.mean_preload),

@@ -21,7 +21,9 @@ with a part missing or computed with other settings.
 from __future__ import annotations
 
 import argparse
+import hashlib
 import json
+import os
 import time
 from datetime import datetime, timedelta
 from pathlib import Path
@@ -31,6 +33,7 @@ import numpy as np
 
 from bearing_gym.benchmark import DEFAULT_TIER, TIER_NAMES
 
+from . import mpc as mpc_module
 from . import protocol as P
 from .evaluate import EvalResult, sweep_row
 from .leaderboard import FULL, Settings
@@ -68,10 +71,13 @@ def missing(tier: str, s: Settings = FULL, data_dir: Path = DATA_DIR) -> list[tu
 
 
 def _settings(tier: str, s: Settings, preload_n: float) -> dict[str, Any]:
+    """What every part of a set must share (the MPC's source too: the stale check at evaluation
+    runs the validation constant again, which would not notice a changed MPC)."""
     return {"tier": tier, "episode_steps": s.episode_steps, "validation_preload_n": preload_n,
             "hindsight_grid_step_n": s.hindsight_grid_step_n,
             "mpc_settings": {"horizon": s.mpc.horizon, "replan_every": s.mpc.replan_every,
-                             "candidates_n": list(s.mpc.candidates_n)}}
+                             "candidates_n": list(s.mpc.candidates_n)},
+            "mpc_source_sha1": hashlib.sha1(Path(mpc_module.__file__).read_bytes()).hexdigest()}
 
 
 def compute_part(tier: str, kind: str, first: int, n: int, s: Settings = FULL, store: Path = STORE_PATH,
@@ -93,9 +99,11 @@ def compute_part(tier: str, kind: str, first: int, n: int, s: Settings = FULL, s
         raise ValueError(f"kind must be 'sweep' or 'mpc', got {kind!r}")
     path = _path(tier, kind, first, n, data_dir)
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps({**head, "kind": kind, "first_seed": first, "episodes": n, "rows": rows,
-                                "mpc_wall_s": wall, "processes": processes if kind == "mpc" else None,
-                                "wall_s": time.time() - t0}) + "\n")
+    tmp = path.with_suffix(".tmp")                 # a part is there whole or not at all
+    tmp.write_text(json.dumps({**head, "kind": kind, "first_seed": first, "episodes": n, "rows": rows,
+                               "mpc_wall_s": wall, "processes": processes if kind == "mpc" else None,
+                               "wall_s": time.time() - t0}) + "\n")
+    os.replace(tmp, path)
     return path
 
 
@@ -107,11 +115,20 @@ def merge(tier: str, s: Settings = FULL, data_dir: Path = DATA_DIR, store: Path 
                                 f"{todo[0][1]}); compute them with `python -m agents.reference_parts --tier {tier} --next {len(todo)}`")
     want = _settings(tier, s, load_choice(tier, store).preload_n)
     parts = [json.loads(_path(tier, *p, data_dir).read_text()) for p in plan(s)]
-    for part in parts:
+    for (kind, first, n), part in zip(plan(s), parts):
+        name = f"part {kind} from seed {first}"
+        if (part["kind"], part["first_seed"], part["episodes"]) != (kind, first, n):
+            raise ValueError(f"{name}: its file holds {part['kind']} from seed {part['first_seed']} "
+                             f"({part['episodes']} episodes)")
         for k, v in want.items():
-            if part[k] != v:
-                raise ValueError(f"part {part['kind']} from seed {part['first_seed']} has {k} = {part[k]}, "
-                                 f"the settings now {v}: delete {parts_dir(tier, data_dir)} and compute it again")
+            if k == "mpc_source_sha1" and kind != "mpc":
+                continue
+            if part.get(k) != v:
+                raise ValueError(f"{name} has {k} = {part.get(k)}, the settings now {v}: delete "
+                                 f"{_path(tier, kind, first, n, data_dir)} and compute it again")
+        for row, r in part["rows"].items():
+            if len(r["returns"]) != n:
+                raise ValueError(f"{name}: its {row} row has {len(r['returns'])} episodes, not {n}")
     sweeps = [p for p in parts if p["kind"] == "sweep"]
     mpcs = [p for p in parts if p["kind"] == "mpc"]
 
@@ -137,6 +154,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--processes", type=int, default=2, help="parallel MPC episodes (default %(default)d)")
     ap.add_argument("--data-dir", default=str(DATA_DIR))
     a = ap.parse_args(argv)
+    if a.next is not None and a.next < 1:
+        ap.error(f"--next must be >= 1, got {a.next}")
     data_dir = Path(a.data_dir)
     todo = missing(a.tier, data_dir=data_dir)
     if a.status:
@@ -149,11 +168,14 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     deadline = None
     if a.until:
-        hh, mm = (int(x) for x in a.until.split(":"))
-        now = datetime.now()
-        deadline = now.replace(hour=hh, minute=mm, second=0, microsecond=0)
-        if deadline < now:
-            deadline += timedelta(days=1)
+        try:
+            hh, mm = (int(x) for x in a.until.split(":"))
+            deadline = datetime.now().replace(hour=hh, minute=mm, second=0, microsecond=0)
+        except ValueError:
+            raise SystemExit(f"--until takes a time of today as HH:MM, got {a.until!r}") from None
+        if deadline <= datetime.now():
+            raise SystemExit(f"--until {a.until} has passed (now {datetime.now():%H:%M}); give a later time today")
+        print(f"computing parts of tier {a.tier} while the next can finish by {deadline:%Y-%m-%d %H:%M}", flush=True)
     took = dict(NOMINAL_PART_S)           # the longest part of each kind so far
     timed: set[str] = set()
     for part in todo[:a.next] if a.next is not None else todo:

@@ -90,7 +90,7 @@ class StoredReferences:
         return StoredReferences(self.tier, self.seeds[:episodes], self.episode_steps, self.validation_preload_n,
                               self.hindsight_grid_step_n, self.validation_constant.first(episodes),
                               self.hindsight.first(episodes), self.mpc.first(m) if m else None, self.mpc_settings,
-                                self.mpc_wall_s_per_episode if m else None)
+                              self.mpc_wall_s_per_episode if m else None)
 
     def check_fresh(self, live_validation_returns: np.ndarray, rebuild: str) -> None:
         """Raise if the validation constant's returns, run again now on the same episodes,

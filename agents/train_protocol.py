@@ -71,17 +71,41 @@ def is_done(algo: str, seed: int, trained_dir: Path = TRAINED_DIR) -> bool:
     return cfg.exists() and json.loads(cfg.read_text()).get("num_timesteps", 0) >= P.STEP_BUDGET_PER_RUN
 
 
-def is_running(algo: str, seed: int, work_dir: Path | None = None) -> bool:
-    """Whether a live process holds this run (its ``.running`` file names a process that exists)."""
-    lock = (work_dir or WORK_DIR) / f"{algo}_s{seed}" / ".running"
+def _holder(lock: Path) -> int | None:
+    """The live process named by a ``.running`` file (None: no file, or its process has ended)."""
     try:
         pid = int(lock.read_text())
         os.kill(pid, 0)
     except (FileNotFoundError, ValueError, ProcessLookupError):
-        return False
+        return None
     except PermissionError:            # a process of another user holds the pid
-        return True
-    return True
+        return pid
+    return pid
+
+
+def is_running(algo: str, seed: int, work_dir: Path | None = None) -> bool:
+    """Whether a live process holds this run (its ``.running`` file names a process that exists)."""
+    return _holder((work_dir or WORK_DIR) / f"{algo}_s{seed}" / ".running") is not None
+
+
+def _take_lock(out: Path, what: str) -> Path:
+    """Create ``out/.running`` with this process's id, atomically (O_EXCL: of two processes
+    starting the same run one gets it); a lock whose process has ended is replaced."""
+    out.mkdir(parents=True, exist_ok=True)
+    lock = out / ".running"
+    for _ in range(3):
+        try:
+            fd = os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY)
+        except FileExistsError:
+            pid = _holder(lock)
+            if pid is not None:
+                raise SystemExit(f"{what} is being trained by process {pid}")
+            lock.unlink(missing_ok=True)           # its process has ended
+            continue
+        with os.fdopen(fd, "w") as f:
+            f.write(str(os.getpid()))
+        return lock
+    raise SystemExit(f"could not take the lock {lock}")
 
 
 def run_summary(algo: str, seed: int, trained_dir: Path = TRAINED_DIR) -> str:
@@ -101,7 +125,7 @@ def train_args(algo: str, seed: int, out: Path, budget: int = P.STEP_BUDGET_PER_
     return ["--algo", algo, "--seed", str(seed), "--timesteps", str(budget), "--n-envs", "2",
             "--tier", DEFAULT_TIER, "--eval-episodes", "0",
             "--val-episodes", str(P.VALIDATION_EPISODES_IN_TRAINING), "--val-seed", str(P.VALIDATION.start),
-            "--eval-freq", str(P.VALIDATION_EVERY_STEPS), "--out", str(out), "--no-progress"] + (["--threads", str(threads)] if threads else [])
+            "--eval-freq", str(P.VALIDATION_EVERY_STEPS), "--out", str(out), "--no-progress"] + (["--threads", str(threads)] if threads is not None else [])
 
 
 def collect(src: Path, dst: Path) -> None:
@@ -118,22 +142,20 @@ def train_run(algo: str, seed: int, budget: int = P.STEP_BUDGET_PER_RUN, trained
               work_dir: Path | None = None, threads: int | None = None) -> Path:
     """Train one run with train.py (resuming its checkpoints if an earlier attempt left them)
     and collect it; returns the collected directory."""
-    sys.path.insert(0, str(ROOT))
-    import train
     out = (work_dir or WORK_DIR) / f"{algo}_s{seed}"
-    if is_running(algo, seed, work_dir):
-        raise SystemExit(f"{algo} seed {seed} is being trained by process {(out / '.running').read_text()}")
-    args = train_args(algo, seed, out, budget, threads)
-    if (out / "checkpoints").exists():
-        args.append("--resume")
-    t0 = time.time()
-    print(f"protocol run: {algo} seed {seed}, {budget:,} steps -> {out}", flush=True)
-    out.mkdir(parents=True, exist_ok=True)
-    (out / ".running").write_text(str(os.getpid()))
+    lock = _take_lock(out, f"{algo} seed {seed}")
     try:
+        if str(ROOT) not in sys.path:
+            sys.path.insert(0, str(ROOT))
+        import train
+        args = train_args(algo, seed, out, budget, threads)
+        if (out / "checkpoints").exists():
+            args.append("--resume")
+        t0 = time.time()
+        print(f"protocol run: {algo} seed {seed}, {budget:,} steps -> {out}", flush=True)
         rc = train.main(args)
     finally:
-        (out / ".running").unlink(missing_ok=True)
+        lock.unlink(missing_ok=True)
     if rc:
         raise SystemExit(f"train.py failed ({rc}) for {algo} seed {seed}")
     dst = collected_dir(algo, seed, trained_dir)
@@ -170,6 +192,8 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--run", type=int, default=0, help="run index (0 .. seeds-1) with --algo")
     ap.add_argument("--threads", type=int, help="numba threads per run (train.py --threads; default one per env, at most the cores)")
     a = ap.parse_args(argv)
+    if a.threads is not None and a.threads < 1:
+        ap.error(f"--threads must be >= 1, got {a.threads}")
     if a.list:
         for algo, k, seed in RUNS:
             state = "done" if is_done(algo, seed) else "training" if is_running(algo, seed) else "to do"

@@ -363,3 +363,19 @@ def test_eval_result_first_cuts_every_per_episode_array():
     assert all(len(v) == 2 for v in c.terms.values()) and len(r.returns) == n     # the original untouched
     with pytest.raises(ValueError, match="6 episodes asked of a result on 5"):
         r.first(6)
+
+
+def test_eval_result_concat_joins_in_order_and_drops_an_array_one_part_lacks():
+    from agents.evaluate import REWARD_TERMS, EvalResult
+
+    def part(lo, n, vib):
+        return EvalResult("p", np.arange(lo, lo + n, dtype=float), {k: np.arange(lo, lo + n) for k in REWARD_TERMS},
+                          np.zeros(n), np.full(n, 900.0), terminated=None if lo == 0 else np.ones(n, bool),
+                          vibration_um=np.ones(n) if vib else None)
+    c = EvalResult.concat([part(0, 2, True), part(2, 3, False)])
+    np.testing.assert_array_equal(c.returns, [0, 1, 2, 3, 4])
+    np.testing.assert_array_equal(c.terminated, [False, False, True, True, True])   # None = none ended early
+    assert c.vibration_um is None                                                   # not known for every episode
+    assert EvalResult.concat([part(0, 2, True), part(0, 1, True)]).terminated is None
+    with pytest.raises(ValueError, match="different policies"):
+        EvalResult.concat([part(0, 2, True), EvalResult("q", np.zeros(1), {}, np.zeros(1), np.zeros(1))])

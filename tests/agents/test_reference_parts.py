@@ -2,7 +2,6 @@
 
 import json
 
-import numpy as np
 import pytest
 
 from agents import protocol as P
@@ -11,7 +10,7 @@ from agents.evaluate import sweep_row
 from agents.leaderboard import FULL, SMOKE
 from agents.reference_store import load_choice
 from agents.references import hindsight_reference, run_mpc
-from agents.stored_references import load_references
+from agents.stored_references import load_references, result_to_json
 
 
 def test_the_parts_cover_the_test_episodes_and_the_mpc_subset_once():
@@ -42,17 +41,17 @@ def test_parts_merge_to_the_one_go_references_and_a_missing_or_foreign_part_is_r
     mpc, _ = run_mpc(tier, seeds[:SMOKE.mpc_episodes], SMOKE.episode_steps, SMOKE.mpc)
     constant = sweep_row(sweep, choice.preload_n)
     assert refs.seeds == tuple(seeds) and refs.validation_preload_n == choice.preload_n
-    for got, want in ((refs.hindsight, hindsight), (refs.mpc, mpc)):
-        np.testing.assert_array_equal(got.returns, want.returns)          # bit for bit
-        np.testing.assert_array_equal(got.qp_fraction, want.qp_fraction)
-        for k in want.terms:
-            np.testing.assert_array_equal(got.terms[k], want.terms[k])
-    np.testing.assert_array_equal(refs.validation_constant.returns, constant.returns)
+    for got, want in ((refs.validation_constant, constant), (refs.hindsight, hindsight), (refs.mpc, mpc)):
+        assert result_to_json(got) == result_to_json(want)      # every stored metric, bit for bit
     assert refs.mpc_wall_s_per_episode > 0
 
     part = tmp_path / "test_references_transient_parts" / f"sweep_{seeds.start}_1.json"
-    d = json.loads(part.read_text())
-    d["hindsight_grid_step_n"] = 100.0
-    part.write_text(json.dumps(d))
-    with pytest.raises(ValueError, match="hindsight_grid_step_n = 100.0"):
-        RP.merge(tier, SMOKE, tmp_path)
+    good = json.loads(part.read_text())
+    for change, problem in ((lambda d: d.update(hindsight_grid_step_n=100.0), "hindsight_grid_step_n = 100.0"),
+                            (lambda d: d["rows"]["hindsight"].update(returns=[]), "hindsight row has 0 episodes"),
+                            (lambda d: d.update(first_seed=seeds.start + 1), "its file holds sweep from seed")):
+        d = json.loads(json.dumps(good))
+        change(d)
+        part.write_text(json.dumps(d))
+        with pytest.raises(ValueError, match=problem):
+            RP.merge(tier, SMOKE, tmp_path)
