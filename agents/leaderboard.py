@@ -272,7 +272,8 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
         runs = learned_res[k:k + len(g.policies)]
         k += len(g.policies)
         headline = g.algo == P.HEADLINE_ALGORITHM and "shipped" not in g.name
-        rows[g.name] = summarise("learned", runs, r0, r1, **reps, algo=g.algo, training_seeds=g.seeds,
+        rows[g.name] = summarise("learned", runs, r0, r1, **reps, versus={"contextual constant": contextual_res},
+                                 algo=g.algo, training_seeds=g.seeds,
                                  timesteps=g.timesteps, model_dirs=g.dirs, headline=headline)
         want = len(P.training_seeds(g.algo)) if g.algo in P.ALGORITHMS else None
         if "shipped" not in g.name and want is not None and len(g.policies) < want:

@@ -59,6 +59,8 @@ def test_smoke_leaderboard_writes_every_row_with_its_statistics(tmp_path):
     ppo = by["PPO (trained)"]
     assert ppo["n_seeds"] == 2 and ppo["n_episodes"] == 2 and ppo["training_seeds"] == [0, 1000]
     assert "seed_ci_low" in ppo and ppo["poi_ci_low"] is not None
+    p, lo, hi = ppo["poi_over"]["contextual constant"]          # two seeds: an interval exists
+    assert 0.0 <= lo <= p <= hi <= 1.0
     # the smoke run builds its validation constant and contextual fit in its output directory
     assert (out.parent / "reference_constants.json").exists() and (out.parent / "contextual_transient.json").exists()
     table = (out.parent / "results_table.md").read_text()

@@ -95,3 +95,20 @@ def test_probability_of_improvement_counts_wins_per_episode_with_half_ties():
     assert lo is not None and lo <= p <= hi
     p1, lo1, hi1 = scoring.probability_of_improvement(x[:1], y)
     assert p1 == pytest.approx((1 + 0 + 0.5 + 1) / 4, abs=1e-12) and lo1 is None and hi1 is None
+
+
+def test_poi_over_another_row_is_one_half_against_itself_and_one_against_a_worse_row():
+    from agents.board_report import summarise
+    from agents.evaluate import REWARD_TERMS, EvalResult
+    rng = np.random.default_rng(3)
+    n = 12
+    r0, r1 = rng.normal(-150, 10, n), rng.normal(-100, 10, n)
+
+    def result(returns):
+        return EvalResult("p", returns, {k: np.zeros(n) for k in REWARD_TERMS}, np.zeros(n), np.full(n, 900.0))
+    mine = result(rng.normal(-120, 10, n))
+    worse = result(mine.returns - 5.0)          # 5 reward units below on every episode
+    row = summarise("learned", [mine], r0, r1, bootstrap_reps=200, poi_reps=50,
+                    versus={"itself": mine, "worse": worse})
+    assert row["poi_over"]["itself"][0] == pytest.approx(0.5, abs=1e-12)    # ties count one half
+    assert row["poi_over"]["worse"][0] == pytest.approx(1.0, abs=1e-12)
