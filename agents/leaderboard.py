@@ -94,6 +94,11 @@ class Settings:
     contextual_episodes: int = 0
     contextual_grid_step_n: float = P.CONTEXTUAL_GRID_STEP_N
 
+    def mpc_settings(self) -> dict[str, Any]:
+        """The MPC reference's settings as stored with its rows."""
+        return {"horizon": self.mpc.horizon, "replan_every": self.mpc.replan_every,
+                "candidates_n": list(self.mpc.candidates_n)}
+
 
 FULL = Settings(smoke=False, episodes=P.TEST_EPISODES, episode_steps=EPISODE_STEPS, mpc_episodes=P.MPC_EPISODES,
                 hindsight_grid_step_n=P.HINDSIGHT_GRID_STEP_N, mpc=RecedingHorizonMPC(),
@@ -208,8 +213,7 @@ def _references(tier: str, s: Settings, choice: ValidationChoice, seeds: range, 
     if m > 0:
         mpc_res, mpc_wall = run_mpc(tier, seeds[:m], s.episode_steps, s.mpc, processes,
                                     progress=f"{tier} 3/3: MPC" if progress else None)
-    mpc_settings = {"horizon": s.mpc.horizon, "replan_every": s.mpc.replan_every,
-                    "candidates_n": list(s.mpc.candidates_n)}
+    mpc_settings = s.mpc_settings()
     wall = float(np.mean(mpc_wall))
     refs = StoredReferences(tier, tuple(seeds), s.episode_steps, choice.preload_n, s.hindsight_grid_step_n,
                             sweep_row(sweep, choice.preload_n), hindsight, mpc_res, mpc_settings,

@@ -75,8 +75,7 @@ def _settings(tier: str, s: Settings, preload_n: float) -> dict[str, Any]:
     runs the validation constant again, which would not notice a changed MPC)."""
     return {"tier": tier, "episode_steps": s.episode_steps, "validation_preload_n": preload_n,
             "hindsight_grid_step_n": s.hindsight_grid_step_n,
-            "mpc_settings": {"horizon": s.mpc.horizon, "replan_every": s.mpc.replan_every,
-                             "candidates_n": list(s.mpc.candidates_n)},
+            "mpc_settings": s.mpc_settings(),
             "mpc_source_sha1": hashlib.sha1(Path(mpc_module.__file__).read_bytes()).hexdigest()}
 
 
@@ -114,8 +113,9 @@ def merge(tier: str, s: Settings = FULL, data_dir: Path = DATA_DIR, store: Path 
         raise FileNotFoundError(f"{len(todo)} parts of tier {tier} are missing (first: {todo[0][0]} from seed "
                                 f"{todo[0][1]}); compute them with `python -m agents.reference_parts --tier {tier} --next {len(todo)}`")
     want = _settings(tier, s, load_choice(tier, store).preload_n)
-    parts = [json.loads(_path(tier, *p, data_dir).read_text()) for p in plan(s)]
-    for (kind, first, n), part in zip(plan(s), parts):
+    layout = plan(s)
+    parts = [json.loads(_path(tier, *p, data_dir).read_text()) for p in layout]
+    for (kind, first, n), part in zip(layout, parts):
         name = f"part {kind} from seed {first}"
         if (part["kind"], part["first_seed"], part["episodes"]) != (kind, first, n):
             raise ValueError(f"{name}: its file holds {part['kind']} from seed {part['first_seed']} "
