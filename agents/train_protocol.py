@@ -108,12 +108,19 @@ def _take_lock(out: Path, what: str) -> Path:
     raise SystemExit(f"could not take the lock {lock}")
 
 
+def best_checkpoint(run: Path) -> dict | None:
+    """A collected run's selected checkpoint (``eval/best.json``: ``num_timesteps``,
+    ``mean_validation_return``), or None if the run is not collected."""
+    path = run / "eval" / "best.json"
+    return json.loads(path.read_text()) if path.exists() else None
+
+
 def run_summary(algo: str, seed: int, trained_dir: Path = TRAINED_DIR) -> str:
     """A done run's selected checkpoint, its mean validation return and the training wall time."""
     d = collected_dir(algo, seed, trained_dir)
-    if not (d / "eval" / "best.json").exists():
+    best = best_checkpoint(d)
+    if best is None:
         return ""
-    best = json.loads((d / "eval" / "best.json").read_text())
     cfg = json.loads((d / "config.json").read_text())
     return (f", best checkpoint {best['num_timesteps']:,} steps, validation return {best['mean_validation_return']:.1f}"
             f", {cfg.get('train_wall_s', float('nan')) / 60:.1f} min training")
@@ -169,10 +176,10 @@ def ship(trained_dir: Path = TRAINED_DIR, pretrained_dir: Path = PRETRAINED_DIR)
     checkpoint to ``pretrained_dir/<algo>/``."""
     shipped = {}
     for algo in P.ALGORITHMS:
-        runs = [d for d in sorted((trained_dir / algo).glob("seed_*")) if (d / "eval" / "best.json").exists()]
+        runs = {d: b for d in sorted((trained_dir / algo).glob("seed_*")) if (b := best_checkpoint(d)) is not None}
         if not runs:
             continue
-        best = max(runs, key=lambda d: json.loads((d / "eval" / "best.json").read_text())["mean_validation_return"])
+        best = max(runs, key=lambda d: runs[d]["mean_validation_return"])
         dst = pretrained_dir / algo
         dst.mkdir(parents=True, exist_ok=True)
         for name in ("model.zip", "vec_normalize.pkl", "config.json"):
