@@ -128,6 +128,12 @@ class ObservationModel:
         part_entry_point(self)
 
     @property
+    def deterministic(self) -> bool:
+        """True if the sensor adds nothing random: no probe noise, runout or offset."""
+        return (self.displacement_noise_m == 0.0 and self.runout_max_m == 0.0 and self.offset_bias_m == 0.0
+                and self.offset_drift_m_per_sqrt_s == 0.0)
+
+    @property
     def space(self) -> spaces.Box:
         return spaces.Box(-OBS_BOUND, OBS_BOUND, shape=(len(FEATURE_NAMES),), dtype=np.float32)
 

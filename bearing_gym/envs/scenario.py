@@ -166,6 +166,14 @@ class ScenarioDistribution:
         check_real("min_event_spacing_s", self.min_event_spacing_s, float(longest_ramp), 1e4, low_open=True)
         part_entry_point(self)
 
+    @property
+    def deterministic(self) -> bool:
+        """True if every draw is the same scenario: no events and every range a single value."""
+        fixed = all(isinstance(r, (int, float)) or r[0] == r[1]
+                    for r in (self.speed_rpm, self.radial_load_n, self.clearance_m, self.waviness_amplitude_m,
+                              self.eccentricity_m, self.initial_preload_n))
+        return fixed and self.events == 0
+
     def _new_level(self, rng: np.random.Generator, r: _Range, current: float, min_change: float) -> float:
         if isinstance(r, (int, float)):
             return float(r)
@@ -231,6 +239,9 @@ class FixedScenario:
             object.__setattr__(self, "scenario", Scenario(**{k: v for k, v in self.scenario.items()
                                                              if k != "entry_point"}))
         part_entry_point(self)
+
+    #: every draw is the same scenario (the generator is not used)
+    deterministic = True
 
     def sample(self, rng: np.random.Generator, episode_s: float,
                pinned: Mapping[str, Any] | None = None) -> Scenario:

@@ -38,7 +38,7 @@ from .observation import ObservationModel
 from .reward import VibrationFirstReward
 from .scenario import PAPER, FixedScenario, ScenarioDistribution
 
-__all__ = ["TIERS", "DEFAULT_TIER", "EPISODE_STEPS", "CONTROL_DT_S", "tier_parts"]
+__all__ = ["TIERS", "DEFAULT_TIER", "EPISODE_STEPS", "CONTROL_DT_S", "tier_parts", "tier_is_deterministic"]
 
 
 _STATIONARY = ScenarioDistribution()
@@ -63,3 +63,12 @@ def tier_parts(tier: str) -> dict[str, Any]:
     if tier not in TIERS:
         raise ValueError(f"unknown tier {tier!r}; valid: {', '.join(TIERS)}")
     return dict(TIERS[tier], actuator=PreloadActuator(), reward=VibrationFirstReward())
+
+
+def tier_is_deterministic(tier: str) -> bool:
+    """True if every seed gives ``tier`` the same episode under a deterministic policy: its
+    scenario distribution and its sensor draw nothing at random (their ``deterministic``; a part
+    without that attribute counts as random). The actuator, reward and simulator are
+    deterministic. Of the built-in tiers only ``paper`` is."""
+    parts = tier_parts(tier)
+    return all(bool(getattr(parts[name], "deterministic", False)) for name in ("scenario", "observation"))

@@ -10,12 +10,12 @@ import pytest
 
 import bearing_gym  # noqa: F401
 from bearing_gym.analysis.signals import QPI_THRESHOLD
-from bearing_gym.envs import (EPISODE_STEPS, FEATURE_NAMES, BearingPreloadEnv, ObservationModel,
+from bearing_gym.envs import (EPISODE_STEPS, FEATURE_NAMES, BearingPreloadEnv, FixedScenario, ObservationModel,
                               PreloadActuator, Scenario, ScenarioDistribution, StepMeasurement,
                               VibrationFirstReward)
 from bearing_gym.envs.features import F_MEAN_X, F_NS_RMS, F_QPI, F_RMS_X, N_FEATURES
 from bearing_gym.envs.kernel import operating_point
-from bearing_gym.envs.tiers import TIERS
+from bearing_gym.envs.tiers import TIERS, tier_is_deterministic
 
 RPM = math.pi / 30.0
 
@@ -237,6 +237,39 @@ def test_every_tier_builds_and_the_default_is_the_transient_one():
             assert env.observation_space.contains(obs) and np.isfinite(r) and not term
     # the field tier's sensor has no cage channel; the others do
     assert not TIERS["field"]["observation"].cage_speed_sensor and TIERS["transient"]["observation"].cage_speed_sensor
+
+
+def _first_steps(tier: str, seed: int, steps: int = 3) -> tuple[np.ndarray, list[float]]:
+    env = BearingPreloadEnv(tier=tier)
+    obs, _ = env.reset(seed=seed)
+    trace, rewards = [obs], []
+    for _ in range(steps):
+        obs, reward, *_ = env.step(np.array([0.2], dtype=np.float32))
+        trace.append(obs)
+        rewards.append(reward)
+    return np.array(trace), rewards
+
+
+@pytest.mark.parametrize("tier", ["paper", "transient", "field"])
+def test_a_deterministic_tier_gives_every_seed_the_same_episode(tier):
+    """tier_is_deterministic is a claim about the simulation: where it holds, two seeds give
+    bit-identical observations and rewards under one action sequence; where it does not, the
+    first observation already differs (another operating point or sensor error)."""
+    a, b = _first_steps(tier, 11), _first_steps(tier, 12)
+    same = np.array_equal(a[0], b[0]) and a[1] == b[1]
+    assert tier_is_deterministic(tier) == (tier == "paper")
+    assert same == tier_is_deterministic(tier)
+
+
+def test_deterministic_parts_say_so():
+    assert FixedScenario().deterministic and ObservationModel().deterministic
+    assert not ScenarioDistribution().deterministic
+    assert ScenarioDistribution(speed_rpm=15000.0, radial_load_n=(100.0, 100.0), clearance_m=5e-6,
+                                waviness_amplitude_m=0.0, eccentricity_m=1e-5, initial_preload_n=900.0).deterministic
+    assert not ScenarioDistribution(speed_rpm=15000.0, radial_load_n=100.0, clearance_m=5e-6, waviness_amplitude_m=0.0,
+                                    eccentricity_m=1e-5, initial_preload_n=900.0, events=1).deterministic
+    assert not ObservationModel(displacement_noise_m=1e-7).deterministic
+    assert not ObservationModel(offset_drift_m_per_sqrt_s=1e-6).deterministic
 
 
 # --- actuator ---------------------------------------------------------------------------------
