@@ -83,6 +83,8 @@ def to_markdown(results: dict[str, Any]) -> str:
                   f"{t['episodes']} test episodes (seeds {t['seeds'][0]}..{t['seeds'][1]}) of {t['episode_steps']} "
                   f"intervals; upper reference: {t['upper_reference']}; denominator floor "
                   f"{t['denominator_floor']:g} reward units, reached on {t['floored_episodes']} episodes.", ""]
+        if t.get("deterministic_note"):
+            lines += ["Deterministic tier: " + t["deterministic_note"] + ".", ""]
         if not t["protocol"]:
             lines += ["**Not the protocol:** " + "; ".join(t["protocol_deviations"]) + ".", ""]
         lines += ["| policy | seeds | episodes | normalised score IQM [95 % CI] | P(improvement) "

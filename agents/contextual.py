@@ -34,12 +34,16 @@ from bearing_gym.benchmark import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
 
 from .evaluate import constant_sweep
 from .policies import Policy
-from .protocol import CONTEXTUAL_FIT_EPISODES, CONTEXTUAL_FIT_SEED, CONTEXTUAL_GRID_STEP_N, TRAIN, preload_grid
+from .protocol import (CONTEXTUAL_FIT_EPISODES, CONTEXTUAL_FIT_SEED, CONTEXTUAL_GRID_STEP_N, TRAIN, episodes_for_tier,
+                       preload_grid)
 from .ridge import RidgeRegression
 
 __all__ = ["ContextualConstant", "contextual_path", "collect_fit_data", "fit_contextual", "main"]
 
 DATA_DIR = Path(__file__).with_name("data")
+#: the fewest fit episodes (the ridge's leave-one-out choice of penalty needs a few rows); also
+#: what a deterministic tier's fit runs (its episodes are copies of one)
+MIN_FIT_EPISODES = 3
 
 
 def contextual_path(tier: str, directory: str | Path = DATA_DIR) -> Path:
@@ -47,8 +51,10 @@ def contextual_path(tier: str, directory: str | Path = DATA_DIR) -> Path:
     return Path(directory) / f"contextual_{tier}.json"
 
 
-def fit_command(tier: str, episodes: int = CONTEXTUAL_FIT_EPISODES) -> str:
-    """The command that fits ``tier``'s contextual constant."""
+def fit_command(tier: str, episodes: int | None = None) -> str:
+    """The command that fits ``tier``'s contextual constant (by default on the protocol's episodes)."""
+    if episodes is None:
+        episodes = episodes_for_tier(tier, CONTEXTUAL_FIT_EPISODES, minimum=MIN_FIT_EPISODES)
     return f"python -m agents.contextual --tier {tier} --episodes {episodes}"
 
 
@@ -147,8 +153,8 @@ def collect_fit_data(tier: str, episodes: int, seed: int = CONTEXTUAL_FIT_SEED, 
     """(first observations (episodes, obs), returns (episodes, grid), grid) of every grid constant
     on the training-range scenarios seed .. seed+episodes-1 (raises before running anything if
     one is outside agents.protocol.TRAIN)."""
-    if episodes < 3:
-        raise ValueError(f"the contextual fit needs at least 3 episodes, got {episodes}")
+    if episodes < MIN_FIT_EPISODES:
+        raise ValueError(f"the contextual fit needs at least {MIN_FIT_EPISODES} episodes, got {episodes}")
     if seed not in TRAIN or seed + episodes - 1 not in TRAIN:
         raise ValueError(f"the contextual fit must use training seeds [{TRAIN.start}, {TRAIN.stop}); "
                          f"got {seed}..{seed + episodes - 1}")
@@ -171,8 +177,9 @@ def fit_contextual(tier: str, episodes: int = CONTEXTUAL_FIT_EPISODES, seed: int
 def build_parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(description="Fit the contextual constant preload on training-range scenarios.")
     ap.add_argument("--tier", choices=TIER_NAMES, default=DEFAULT_TIER)
-    ap.add_argument("--episodes", type=int, default=CONTEXTUAL_FIT_EPISODES,
-                    help="training-range fit episodes (default: the protocol's %(default)d)")
+    ap.add_argument("--episodes", type=int,
+                    help=f"training-range fit episodes (default: the protocol's {CONTEXTUAL_FIT_EPISODES}; "
+                         f"{MIN_FIT_EPISODES} on a deterministic tier, where every seed gives the same episode)")
     ap.add_argument("--seed", type=int, default=CONTEXTUAL_FIT_SEED, help="first fit seed (in TRAIN)")
     ap.add_argument("--episode-steps", type=int, default=EPISODE_STEPS)
     ap.add_argument("--grid-step", type=float, default=CONTEXTUAL_GRID_STEP_N, help="grid of constants (N)")
@@ -184,6 +191,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> None:
     a = build_parser().parse_args(argv)
+    if a.episodes is None:
+        a.episodes = episodes_for_tier(a.tier, CONTEXTUAL_FIT_EPISODES, minimum=MIN_FIT_EPISODES)
     grid = preload_grid(a.grid_step)
     print(f"contextual fit, tier {a.tier}: {len(grid)} constants x {a.episodes} training-range episodes "
           f"(seeds {a.seed}..{a.seed + a.episodes - 1}) x {a.episode_steps} steps = "

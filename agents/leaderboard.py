@@ -7,7 +7,8 @@ as normalised scores with rliable statistics.
     python -m agents.leaderboard --pretrained --stored-references    # minutes: references from agents/data
 
 Per tier (``--tier``, default the benchmark's), on ``agents.protocol.TEST_EPISODES`` test
-scenarios (seeds ``TEST.start`` on), one batch per phase:
+scenarios (seeds ``TEST.start`` on; one on a deterministic tier, ``paper``, where every seed
+gives the same episode: :meth:`Settings.for_tier`), one batch per phase:
 
 1. the validation-chosen constant, read from ``agents/data/reference_constants.json``
    (``python -m agents.references`` builds it on validation seeds), and the hindsight best
@@ -18,6 +19,8 @@ scenarios (seeds ``TEST.start`` on), one batch per phase:
    written by train.py (grouped by algorithm: one directory per training seed) and, with
    ``--pretrained``, the shipped policy of each algorithm in ``agents/pretrained/<algo>/``
    (``model.zip`` + ``vec_normalize.pkl``, as :func:`agents.evaluate.load_trained` loads them);
+   every learned policy runs on every tier asked for, its row named "... - trained on <tier>"
+   on the others (the observation is the same on every tier; the headline is on its own);
 3. the MPC reference on the first ``MPC_EPISODES`` test scenarios (``--processes`` in parallel).
 
 A run of the protocol's size stores phases 1 and 3 (per episode) in
@@ -57,6 +60,7 @@ from typing import Any
 import numpy as np
 
 from bearing_gym.benchmark import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
+from bearing_gym.envs.tiers import tier_is_deterministic
 
 from . import protocol as P
 from . import scoring
@@ -94,6 +98,14 @@ class Settings:
     contextual_episodes: int = 0
     contextual_grid_step_n: float = P.CONTEXTUAL_GRID_STEP_N
 
+    def for_tier(self, tier: str) -> "Settings":
+        """These settings on ``tier``: on a deterministic tier (every seed gives the same
+        episode: ``paper``) one test, MPC and validation episode stand for the protocol's
+        (:func:`agents.protocol.episodes_for_tier`); elsewhere unchanged."""
+        return dataclasses.replace(self, episodes=P.episodes_for_tier(tier, self.episodes),
+                                   mpc_episodes=P.episodes_for_tier(tier, self.mpc_episodes),
+                                   validation_episodes=P.episodes_for_tier(tier, self.validation_episodes))
+
     def mpc_settings(self) -> dict[str, Any]:
         """The MPC reference's settings as stored with its rows."""
         return {"horizon": self.mpc.horizon, "replan_every": self.mpc.replan_every,
@@ -112,7 +124,7 @@ SMOKE = Settings(smoke=True, episodes=2, episode_steps=3, mpc_episodes=1, hindsi
 
 @dataclass
 class LearnedGroup:
-    """One learned row: an algorithm's runs (one policy per training seed) on one tier."""
+    """One learned row: an algorithm's runs (one policy per training seed), trained on ``tier``."""
 
     name: str
     algo: str
@@ -121,6 +133,11 @@ class LearnedGroup:
     seeds: list[int | None]
     timesteps: list[int | None]
     dirs: list[str] = field(default_factory=list)
+    shipped: bool = False
+
+    def row_name(self, tier: str) -> str:
+        """The row's name on the board of ``tier`` (saying so where it was trained on another)."""
+        return self.name if tier == self.tier else f"{self.name} - trained on {self.tier}"
 
 
 def _config(d: Path) -> dict:
@@ -144,7 +161,8 @@ def learned_groups(model_dirs: list[str | Path], pretrained: bool,
         tier = cfg.get("tier", DEFAULT_TIER)
         key = (algo, tier, shipped)
         if key not in groups:
-            groups[key] = LearnedGroup(f"{algo.upper()} ({'shipped' if shipped else 'trained'})", algo, tier, [], [], [])
+            groups[key] = LearnedGroup(f"{algo.upper()} ({'shipped' if shipped else 'trained'})", algo, tier, [], [], [],
+                                       shipped=shipped)
         g = groups[key]
         g.policies.append(load_trained(d, algo=algo))
         g.seeds.append(cfg.get("seed"))
@@ -232,6 +250,9 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
     and must reproduce its stored returns); else they are computed, and written to
     ``save_references_to`` if given."""
     t0 = time.time()
+    s = s.for_tier(tier)
+    deterministic = tier_is_deterministic(tier)
+    want_episodes = P.episodes_for_tier(tier, P.TEST_EPISODES)
     deviations: list[str] = []
     choice = _validation_choice(tier, s, store, out_dir, progress)
     deviations += [f"validation constant: {p}" for p in choice.protocol_problems()]
@@ -241,9 +262,8 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
     if stored is None and save_references_to is not None:
         refs.save(save_references_to)
     shape = f"{s.episodes} test episodes of {s.episode_steps} steps"
-    mine = [g for g in groups if g.tier == tier]
     live_constant = [ConstantPreload(choice.preload_n)] if stored is not None else []
-    policies = live_constant + [contextual, MapOracle()] + [p for g in mine for p in g.policies]
+    policies = live_constant + [contextual, MapOracle()] + [p for g in groups for p in g.policies]
     ran = run_policies(policies, s.episodes, seeds.start, s.episode_steps, env_kwargs={"tier": tier},
                        progress=f"{tier} 2/3: {len(policies)} policies x {shape}" if progress else None)
     if live_constant:
@@ -272,20 +292,20 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
             "reference", [mpc_res], r0[:m], r1[:m], **reps, **refs.mpc_settings,
             wall_s_per_episode=None if math.isnan(mpc_wall_s) else mpc_wall_s)
     k = 0
-    for g in mine:
+    for g in groups:                # also those trained on another tier, named so (row_name)
         runs = learned_res[k:k + len(g.policies)]
         k += len(g.policies)
-        headline = g.algo == P.HEADLINE_ALGORITHM and "shipped" not in g.name
-        rows[g.name] = summarise("learned", runs, r0, r1, **reps, versus={"contextual constant": contextual_res},
+        headline = g.algo == P.HEADLINE_ALGORITHM and not g.shipped and g.tier == tier
+        rows[g.row_name(tier)] = summarise("learned", runs, r0, r1, **reps, versus={"contextual constant": contextual_res},
                                  algo=g.algo, training_seeds=g.seeds,
                                  timesteps=g.timesteps, model_dirs=g.dirs, headline=headline)
         want = len(P.training_seeds(g.algo)) if g.algo in P.ALGORITHMS else None
-        if "shipped" not in g.name and want is not None and len(g.policies) < want:
-            deviations.append(f"{g.name}: {len(g.policies)} training seeds (the protocol: {want})")
-    if s.episodes < P.TEST_EPISODES:
-        deviations.append(f"{s.episodes} test episodes (the protocol: {P.TEST_EPISODES})")
-    if m < min(P.MPC_EPISODES, s.episodes):
-        deviations.append(f"MPC on {m} episodes (the protocol: {P.MPC_EPISODES})")
+        if not g.shipped and want is not None and len(g.policies) < want:
+            deviations.append(f"{g.row_name(tier)}: {len(g.policies)} training seeds (the protocol: {want})")
+    if s.episodes < want_episodes:
+        deviations.append(f"{s.episodes} test episodes (the protocol: {want_episodes})")
+    if m < min(P.episodes_for_tier(tier, P.MPC_EPISODES), s.episodes):
+        deviations.append(f"MPC on {m} episodes (the protocol: {P.episodes_for_tier(tier, P.MPC_EPISODES)})")
     if m < min(s.mpc_episodes, s.episodes):
         deviations.append(f"MPC on the {m} stored episodes ({s.mpc_episodes} asked for)")
     if s.episode_steps != EPISODE_STEPS:
@@ -296,6 +316,11 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
              f"the hindsight constant alone on the other {s.episodes - m}" if m else
              "the hindsight constant alone (the MPC did not run)")
     return {"episodes": s.episodes, "seeds": [seeds.start, seeds[-1]], "episode_steps": s.episode_steps,
+            "deterministic": deterministic,
+            **({"deterministic_note": f"every seed gives this tier the same episode (scenario and sensor draw nothing "
+                                      f"at random), so one test episode stands for the protocol's {P.TEST_EPISODES}; "
+                                      "the intervals of the learned rows cover the training seeds only"}
+               if deterministic else {}),
             "protocol": not deviations, "protocol_deviations": deviations,
             "validation_constant": {"preload_n": choice.preload_n, "episodes": choice.episodes,
                                     "seeds": [choice.seeds[0], choice.seeds[-1]], "grid_step_n": choice.grid_step_n,
@@ -371,9 +396,6 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         results["tiers"][tier] = run_tier(tier, s, groups, Path(a.store), Path(a.contextual_dir), out.parent,
                                           processes=1 if s.smoke else a.processes, stored=stored,
                                           save_references_to=Path(a.references_dir) if protocol_size else None)
-    unused = [g.name for g in groups if g.tier not in a.tier]
-    if unused:
-        print(f"note: not evaluated (trained on another tier): {', '.join(unused)}", flush=True)
     results["wall_s"] = time.time() - t0
     out.write_text(json.dumps(results, indent=1) + "\n")
     text = to_markdown(results)

@@ -16,7 +16,8 @@ Every env seed a script uses comes from one of these disjoint ranges (``check_di
   ``RETIRED``.)
 
 The leaderboard (:mod:`agents.leaderboard`) runs ``TEST_EPISODES`` test scenarios per tier
-(seeds ``TEST.start`` on), the MPC reference on the first ``MPC_EPISODES`` of them, every
+(seeds ``TEST.start`` on; one on a deterministic tier, where every seed gives the same episode:
+:func:`episodes_for_tier`), the MPC reference on the first ``MPC_EPISODES`` of them, every
 learned algorithm with the training seeds of :func:`training_seeds` and the step budget
 ``STEP_BUDGET_PER_RUN``. ``check_protocol`` (run at import) checks that these numbers fit the
 ranges and the minimums of the protocol.
@@ -33,7 +34,7 @@ __all__ = ["TRAIN", "VALIDATION", "TIER_DESIGN", "TEST", "RETIRED", "RANGES", "c
            "VALIDATION_GRID_STEP_N", "CONTEXTUAL_GRID_STEP_N", "ALGORITHMS", "HEADLINE_ALGORITHM",
            "HEADLINE_SEEDS", "OTHER_SEEDS", "RUN_SEED_STRIDE", "STEP_BUDGET_PER_RUN",
            "STEP_BUDGET_CHOSEN_FROM_THROUGHPUT", "VALIDATION_EPISODES_IN_TRAINING", "VALIDATION_EVERY_STEPS",
-           "training_seeds", "held_out_seeds", "validation_seeds",
+           "training_seeds", "held_out_seeds", "validation_seeds", "episodes_for_tier",
            "preload_grid", "check_protocol"]
 
 TRAIN = range(0, 50_000)
@@ -162,6 +163,16 @@ def preload_grid(step_n: float, min_n: float | None = None, max_n: float | None 
     if max_n - grid[-1] > 1e-6:
         grid.append(float(max_n))
     return tuple(grid)
+
+
+def episodes_for_tier(tier: str, episodes: int, minimum: int = 1) -> int:
+    """How many of the protocol's ``episodes`` a run on ``tier`` takes: all of them, or on a
+    deterministic tier (every seed gives the same episode,
+    :func:`bearing_gym.envs.tiers.tier_is_deterministic`: ``paper``) ``minimum`` - the others
+    would be copies of it. ``minimum`` is what the consumer needs (the contextual fit's ridge
+    needs 3 rows)."""
+    from bearing_gym.envs.tiers import tier_is_deterministic
+    return min(episodes, max(1, minimum)) if tier_is_deterministic(tier) else episodes
 
 
 def check_protocol(**overrides: Any) -> None:

@@ -157,14 +157,15 @@ def main(argv: list[str] | None = None) -> int:
     if a.next is not None and a.next < 1:
         ap.error(f"--next must be >= 1, got {a.next}")
     data_dir = Path(a.data_dir)
-    todo = missing(a.tier, data_dir=data_dir)
+    s = FULL.for_tier(a.tier)            # one episode of each kind on a deterministic tier
+    todo = missing(a.tier, s, data_dir=data_dir)
     if a.status:
-        done = len(plan()) - len(todo)
-        print(f"tier {a.tier}: {done}/{len(plan())} parts done in {parts_dir(a.tier, data_dir)}"
+        done = len(plan(s)) - len(todo)
+        print(f"tier {a.tier}: {done}/{len(plan(s))} parts done in {parts_dir(a.tier, data_dir)}"
               + (f"; next: {todo[0][0]} from seed {todo[0][1]}" if todo else f"; merge them: --merge"))
         return 0
     if a.merge:
-        print(f"wrote {merge(a.tier, data_dir=data_dir)}")
+        print(f"wrote {merge(a.tier, s, data_dir=data_dir)}")
         return 0
     deadline = None
     if a.until:
@@ -183,11 +184,11 @@ def main(argv: list[str] | None = None) -> int:
             print(f"stopping before {part[0]} from seed {part[1]}: it would not finish by {a.until}")
             break
         t0 = time.time()
-        path = compute_part(a.tier, *part, data_dir=data_dir, processes=a.processes)
+        path = compute_part(a.tier, *part, s, data_dir=data_dir, processes=a.processes)
         took[part[0]] = (time.time() - t0) if part[0] not in timed else max(took[part[0]], time.time() - t0)
         timed.add(part[0])
         print(f"{path} ({(time.time() - t0) / 60:.1f} min)", flush=True)
-    left = missing(a.tier, data_dir=data_dir)
+    left = missing(a.tier, s, data_dir=data_dir)
     print(f"{len(left)} parts left" if left else f"every part done: `python -m agents.reference_parts --tier {a.tier} --merge`")
     return 0
 

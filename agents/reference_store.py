@@ -14,8 +14,8 @@ import json
 from dataclasses import asdict, dataclass
 from pathlib import Path
 
-from .protocol import (VALIDATION, VALIDATION_CONSTANT_EPISODES, VALIDATION_GRID_STEP_N, preload_grid,
-                       range_of)
+from .protocol import (VALIDATION, VALIDATION_CONSTANT_EPISODES, VALIDATION_GRID_STEP_N, episodes_for_tier,
+                       preload_grid, range_of)
 
 __all__ = ["STORE_PATH", "ValidationChoice", "load_choice", "save_choice", "rebuild_command"]
 
@@ -24,8 +24,11 @@ ABOUT = ("Per tier: the constant preload with the best mean return on validation
          "(agents.references); rebuild an entry with `python -m agents.references --tier T --episodes N`.")
 
 
-def rebuild_command(tier: str, episodes: int = VALIDATION_CONSTANT_EPISODES) -> str:
-    """The command that (re)builds ``tier``'s entry of the store."""
+def rebuild_command(tier: str, episodes: int | None = None) -> str:
+    """The command that (re)builds ``tier``'s entry of the store (by default the protocol's
+    episodes: :func:`agents.protocol.episodes_for_tier`)."""
+    if episodes is None:
+        episodes = episodes_for_tier(tier, VALIDATION_CONSTANT_EPISODES)
     return f"python -m agents.references --tier {tier} --episodes {episodes}"
 
 
@@ -77,8 +80,9 @@ class ValidationChoice:
         episodes, short episodes, another grid."""
         from bearing_gym.benchmark import EPISODE_STEPS
         out = []
-        if self.episodes < VALIDATION_CONSTANT_EPISODES:
-            out.append(f"{self.episodes} validation episodes (the protocol: {VALIDATION_CONSTANT_EPISODES})")
+        want = episodes_for_tier(self.tier, VALIDATION_CONSTANT_EPISODES)
+        if self.episodes < want:
+            out.append(f"{self.episodes} validation episodes (the protocol: {want})")
         if self.episode_steps != EPISODE_STEPS:
             out.append(f"{self.episode_steps}-step episodes (the benchmark: {EPISODE_STEPS})")
         if tuple(self.grid_n) != preload_grid(VALIDATION_GRID_STEP_N):

@@ -42,7 +42,7 @@ from .contextual import ContextualConstant
 from .evaluate import EvalResult, constant_sweep, hindsight_constant
 from .mpc import RecedingHorizonMPC
 from .protocol import (HINDSIGHT_GRID_STEP_N, VALIDATION, VALIDATION_CONSTANT_EPISODES, VALIDATION_GRID_STEP_N,
-                       preload_grid, validation_seeds)
+                       episodes_for_tier, preload_grid, validation_seeds)
 from .reference_store import STORE_PATH, ValidationChoice, save_choice
 
 __all__ = ["choose_validation_constant", "hindsight_reference", "run_mpc", "ContextualConstant", "main"]
@@ -134,8 +134,9 @@ def build_parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(description="Choose a tier's best constant preload on validation seeds "
                                              "and store it in agents/data/reference_constants.json.")
     ap.add_argument("--tier", choices=TIER_NAMES, default=DEFAULT_TIER)
-    ap.add_argument("--episodes", type=int, default=VALIDATION_CONSTANT_EPISODES,
-                    help="validation episodes (default: the protocol's %(default)d)")
+    ap.add_argument("--episodes", type=int,
+                    help=f"validation episodes (default: the protocol's {VALIDATION_CONSTANT_EPISODES}; "
+                         "1 on a deterministic tier, where every seed gives the same episode)")
     ap.add_argument("--seed", type=int, default=VALIDATION.start, help="first validation seed")
     ap.add_argument("--episode-steps", type=int, default=EPISODE_STEPS)
     ap.add_argument("--grid-step", type=float, default=VALIDATION_GRID_STEP_N, help="grid of constants (N)")
@@ -145,6 +146,8 @@ def build_parser() -> argparse.ArgumentParser:
 
 def main(argv: list[str] | None = None) -> None:
     a = build_parser().parse_args(argv)
+    if a.episodes is None:
+        a.episodes = episodes_for_tier(a.tier, VALIDATION_CONSTANT_EPISODES)
     grid = preload_grid(a.grid_step)
     print(f"validation constant, tier {a.tier}: {len(grid)} constants x {a.episodes} validation episodes x "
           f"{a.episode_steps} steps = {len(grid) * a.episodes * a.episode_steps:,} env steps", flush=True)

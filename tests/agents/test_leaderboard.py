@@ -105,3 +105,28 @@ def test_stored_references_reproduce_the_computed_rows_and_refuse_a_stale_store(
     with pytest.raises(RuntimeError, match="stale.*python -m agents.leaderboard --tier transient"):
         leaderboard.run_tier("transient", s, [], out_dir=tmp_path, progress=False, contextual_dir=tmp_path,
                              stored=refs)
+
+
+def test_a_deterministic_tier_runs_one_episode_and_names_policies_trained_elsewhere(tmp_path):
+    """On the paper tier every seed gives the same episode: the board runs one test episode
+    (not a deviation), says why, and evaluates a policy trained on transient under a name that
+    says so. The validation episode is then the test episode, so the validation-chosen constant
+    is the hindsight best of the same grid, and the contextual fit (same grid in the smoke
+    settings, fitted on copies of that episode) picks it too: three rows with one return."""
+    d = tmp_path / "ppo_0"
+    d.mkdir()
+    _untrained_run(d, 0)
+    out = tmp_path / "lb" / "results.json"
+    leaderboard.main(["--smoke", "--tier", "paper", "--out", str(out), "--model", str(d)])
+    tier = json.loads(out.read_text())["tiers"]["paper"]
+    assert tier["deterministic"] and tier["episodes"] == 1 and tier["mpc_episodes"] == 1
+    assert "same episode" in tier["deterministic_note"]
+    assert not any("test episodes" in x for x in tier["protocol_deviations"]), tier["protocol_deviations"]
+    rows = tier["policies"]
+    ppo = rows["PPO (trained) - trained on transient"]
+    assert ppo["n_episodes"] == 1 and ppo["n_seeds"] == 1
+    by = {k: next(r for n, r in rows.items() if n.startswith(k))
+          for k in ("validation constant", "hindsight constant", "contextual constant")}
+    returns = {k: r["mean_return"] for k, r in by.items()}
+    assert len(set(returns.values())) == 1, returns
+    assert "Deterministic tier" in (out.parent / "results_table.md").read_text()

@@ -73,6 +73,18 @@ def test_the_references_draw_from_their_ranges():
     assert protocol.range_of(references.build_parser().get_default("seed")) == "validation"
     fit = contextual.build_parser()
     first = fit.get_default("seed")
-    assert protocol.range_of(first) == protocol.range_of(first + fit.get_default("episodes") - 1) == "train"
+    last = first + protocol.CONTEXTUAL_FIT_EPISODES - 1        # the default on a random tier
+    assert fit.get_default("episodes") is None and protocol.range_of(first) == protocol.range_of(last) == "train"
     with pytest.raises(ValueError, match="leave the test range"):
         protocol.held_out_seeds(len(protocol.TEST) + 1)
+
+
+def test_a_deterministic_tier_takes_one_episode_of_each_count():
+    """Only the paper tier gives every seed the same episode (tests/envs/test_parts.py checks
+    that against the simulation); there one episode, or the consumer's minimum, stands for the
+    protocol's count."""
+    assert protocol.episodes_for_tier("paper", protocol.TEST_EPISODES) == 1
+    assert protocol.episodes_for_tier("paper", protocol.CONTEXTUAL_FIT_EPISODES, minimum=3) == 3
+    assert protocol.episodes_for_tier("paper", 0) == 0
+    for tier in ("stationary", "transient", "field"):
+        assert protocol.episodes_for_tier(tier, protocol.TEST_EPISODES) == protocol.TEST_EPISODES

@@ -98,3 +98,12 @@ def test_evaluation_reads_the_stored_constant_instead_of_choosing_on_its_episode
     res = evaluate(None, episodes=2, seed=TEST.start, episode_steps=2, out_dir=tmp_path / "none", verbose=False,
                    tier="transient", store_path=tmp_path / "empty.json", grid_step_n=850.0)
     assert not any("validation choice" in r.name for r in res)
+
+
+def test_one_validation_episode_is_the_protocol_only_on_a_deterministic_tier():
+    grid = preload_grid(50.0)
+    means = tuple(-float(k) for k in range(len(grid)))
+    one = {tier: ValidationChoice(tier, grid[0], (VALIDATION.start,), 50.0, grid, means, 150)
+           for tier in ("paper", "transient")}
+    assert one["paper"].protocol_problems() == []
+    assert one["transient"].protocol_problems() == ["1 validation episodes (the protocol: 50)"]
