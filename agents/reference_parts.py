@@ -46,7 +46,7 @@ __all__ = ["SWEEP_PART_EPISODES", "MPC_PART_EPISODES", "parts_dir", "plan", "mis
 SWEEP_PART_EPISODES = 10     # 35 constants x 10 episodes x 150 steps: about 6 min on 2 cores
 MPC_PART_EPISODES = 2        # two MPC episodes, one per core
 #: what ``--until`` assumes a part of a kind takes before one has been timed (generous)
-NOMINAL_PART_S = {"sweep": 420.0, "mpc": 600.0}   # sweep parts measured 5.1-5.6 min idle
+NOMINAL_PART_S = {"sweep": 420.0, "mpc": 120.0}   # measured on 2 cores: sweep parts 4.7-5.6 min, mpc parts 0.8-0.9 min
 
 
 def parts_dir(tier: str, data_dir: Path = DATA_DIR) -> Path:
