@@ -99,4 +99,16 @@ def to_markdown(results: dict[str, Any]) -> str:
                          f"| {_fmt(r['vibration_amplitude_um'])} | {r['heat_cost']:.2f} | {r['fatigue_cost']:.2f} "
                          f"| {r['terminated_episodes']} |")
         lines.append("")
+        learned = [(name, r) for name, r in t["policies"].items() if r["kind"] == "learned"]
+        if learned:
+            lines += ["Learned rows: training seed, selected checkpoint (env steps), training wall time.", ""]
+            lines += [f"- {name}: " + "; ".join(_run(*x) for x in zip(r.get("training_seeds", []), r.get("timesteps", []),
+                                                                       r.get("train_wall_s", [])))
+                      for name, r in learned]
+            lines.append("")
     return "\n".join(lines)
+
+
+def _run(seed: int | None, steps: int | None, wall_s: float | None) -> str:
+    return (f"seed {'-' if seed is None else seed}, {'-' if steps is None else f'{steps:,}'} steps, "
+            f"{'-' if wall_s is None else f'{wall_s / 60:.1f} min'}")

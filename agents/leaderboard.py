@@ -134,6 +134,7 @@ class LearnedGroup:
     timesteps: list[int | None]
     dirs: list[str] = field(default_factory=list)
     shipped: bool = False
+    train_wall_s: list[float | None] = field(default_factory=list)
 
     def row_name(self, tier: str) -> str:
         """The row's name on the board of ``tier`` (saying so where it was trained on another)."""
@@ -168,6 +169,7 @@ def learned_groups(model_dirs: list[str | Path], pretrained: bool,
         g.seeds.append(cfg.get("seed"))
         g.timesteps.append(cfg.get("selected_timesteps", cfg.get("num_timesteps")))
         g.dirs.append(str(d))
+        g.train_wall_s.append(cfg.get("train_wall_s"))
 
     for d in model_dirs:
         add(Path(d), None, False)
@@ -298,7 +300,8 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
         headline = g.algo == P.HEADLINE_ALGORITHM and not g.shipped and g.tier == tier
         rows[g.row_name(tier)] = summarise("learned", runs, r0, r1, **reps, versus={"contextual constant": contextual_res},
                                  algo=g.algo, training_seeds=g.seeds,
-                                 timesteps=g.timesteps, model_dirs=g.dirs, headline=headline)
+                                 timesteps=g.timesteps, train_wall_s=g.train_wall_s, model_dirs=g.dirs,
+                                 headline=headline)
         want = len(P.training_seeds(g.algo)) if g.algo in P.ALGORITHMS else None
         if not g.shipped and want is not None and len(g.policies) < want:
             deviations.append(f"{g.row_name(tier)}: {len(g.policies)} training seeds (the protocol: {want})")

@@ -65,6 +65,7 @@ def test_smoke_leaderboard_writes_every_row_with_its_statistics(tmp_path):
     assert (out.parent / "reference_constants.json").exists() and (out.parent / "contextual_transient.json").exists()
     table = (out.parent / "results_table.md").read_text()
     assert all(f"| {name} |" in table for name in rows)
+    assert "- PPO (trained): seed 0, 0 steps, -; seed 1000, 0 steps, -" in table     # no train_wall_s recorded
 
 
 def test_pretrained_without_shipped_policies_says_what_to_do(tmp_path):
