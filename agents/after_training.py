@@ -20,6 +20,7 @@ from pathlib import Path
 from typing import Any
 
 from bearing_gym.benchmark import EPISODE_STEPS
+from bearing_gym.envs.tiers import tier_is_deterministic
 
 from . import protocol as P
 from .board_report import to_markdown
@@ -50,8 +51,9 @@ def evaluate_run(model_dir: str | Path, episodes: int, tier: str, episode_steps:
     ``model_dir`` and prints the table. Returns the tier's results (None when it fell back to
     the per-baseline report)."""
     out = Path(model_dir)
+    episodes = P.episodes_for_tier(tier, episodes)      # 1 on a deterministic tier: the others are copies
     missing = _missing_reference(tier)
-    if missing is None and episodes < 2:
+    if missing is None and episodes < 2 and not tier_is_deterministic(tier):
         missing = f"{episodes} episode: an interval needs two"
     if missing is not None:
         from .evaluate import TEST_SEED, evaluate
@@ -91,8 +93,9 @@ def evaluate_run(model_dir: str | Path, episodes: int, tier: str, episode_steps:
                "protocol": {"test_episodes": P.TEST_EPISODES, "step_budget_per_run": P.STEP_BUDGET_PER_RUN}}
     (out / "leaderboard.json").write_text(json.dumps(results, indent=1) + "\n")
     text = to_markdown(results)
-    note = (f"\nThe shipped rows are the leaderboard's policies (docs/results.md: {P.TEST_EPISODES} test episodes, "
-            f"every training seed); this run's row is a short demo on {episodes} of those episodes.\n")
+    note = (f"\nThe shipped rows are the leaderboard's policies (docs/results.md: "
+            f"{P.episodes_for_tier(tier, P.TEST_EPISODES)} test episodes, every training seed); this run's row is a "
+            f"short demo on {episodes} of those episodes.\n")
     (out / "leaderboard.md").write_text(text + note)
     print(text + note, flush=True)
     return result

@@ -3,6 +3,7 @@
 
 from __future__ import annotations
 
+from itertools import zip_longest
 from typing import Any
 
 import numpy as np
@@ -102,8 +103,9 @@ def to_markdown(results: dict[str, Any]) -> str:
         learned = [(name, r) for name, r in t["policies"].items() if r["kind"] == "learned"]
         if learned:
             lines += ["Learned rows: training seed, selected checkpoint (env steps), training wall time.", ""]
-            lines += [f"- {name}: " + "; ".join(_run(*x) for x in zip(r.get("training_seeds", []), r.get("timesteps", []),
-                                                                       r.get("train_wall_s", [])))
+            lines += [f"- {name}: " + "; ".join(_run(*x) for x in zip_longest(r.get("training_seeds", []),
+                                                                               r.get("timesteps", []),
+                                                                               r.get("train_wall_s", [])))
                       for name, r in learned]
             lines.append("")
     return "\n".join(lines)

@@ -15,8 +15,8 @@ TRAIN): every grid constant runs every fit episode, one batch.
     python -m agents.contextual --tier transient --episodes 100    # -> agents/data/contextual_transient.json
 
 Cost: (grid size) x episodes x episode length environment steps: 18 x 100 x 150 = 270,000 for
-the protocol's fit (``CONTEXTUAL_FIT_EPISODES``); at the 18 env steps/s measured on the loaded
-2-core development machine that is about 4 h per tier (less on an idle machine). The fit itself
+the protocol's fit (``CONTEXTUAL_FIT_EPISODES``): 26 min on the 2-core development machine for
+the ``transient`` tier (``meta.wall_s`` of agents/data/contextual_transient.json). The fit itself
 takes milliseconds.
 """
 
@@ -38,7 +38,7 @@ from .protocol import (CONTEXTUAL_FIT_EPISODES, CONTEXTUAL_FIT_SEED, CONTEXTUAL_
                        preload_grid)
 from .ridge import RidgeRegression
 
-__all__ = ["ContextualConstant", "contextual_path", "collect_fit_data", "fit_contextual", "main"]
+__all__ = ["ContextualConstant", "contextual_path", "fit_episodes", "collect_fit_data", "fit_contextual", "main"]
 
 DATA_DIR = Path(__file__).with_name("data")
 #: the fewest fit episodes (the ridge's leave-one-out choice of penalty needs a few rows); also
@@ -51,10 +51,15 @@ def contextual_path(tier: str, directory: str | Path = DATA_DIR) -> Path:
     return Path(directory) / f"contextual_{tier}.json"
 
 
+def fit_episodes(tier: str) -> int:
+    """The protocol's number of fit episodes on ``tier`` (MIN_FIT_EPISODES on a deterministic tier)."""
+    return episodes_for_tier(tier, CONTEXTUAL_FIT_EPISODES, minimum=MIN_FIT_EPISODES)
+
+
 def fit_command(tier: str, episodes: int | None = None) -> str:
     """The command that fits ``tier``'s contextual constant (by default on the protocol's episodes)."""
     if episodes is None:
-        episodes = episodes_for_tier(tier, CONTEXTUAL_FIT_EPISODES, minimum=MIN_FIT_EPISODES)
+        episodes = fit_episodes(tier)
     return f"python -m agents.contextual --tier {tier} --episodes {episodes}"
 
 
@@ -192,7 +197,7 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> None:
     a = build_parser().parse_args(argv)
     if a.episodes is None:
-        a.episodes = episodes_for_tier(a.tier, CONTEXTUAL_FIT_EPISODES, minimum=MIN_FIT_EPISODES)
+        a.episodes = fit_episodes(a.tier)
     grid = preload_grid(a.grid_step)
     print(f"contextual fit, tier {a.tier}: {len(grid)} constants x {a.episodes} training-range episodes "
           f"(seeds {a.seed}..{a.seed + a.episodes - 1}) x {a.episode_steps} steps = "

@@ -20,7 +20,9 @@ gives the same episode: :meth:`Settings.for_tier`), one batch per phase:
    ``--pretrained``, the shipped policy of each algorithm in ``agents/pretrained/<algo>/``
    (``model.zip`` + ``vec_normalize.pkl``, as :func:`agents.evaluate.load_trained` loads them);
    every learned policy runs on every tier asked for, its row named "... - trained on <tier>"
-   on the others (the observation is the same on every tier; the headline is on its own);
+   on the others (every tier has the same observation space; on ``field`` a policy trained on
+   ``transient`` loses its cage-speed features and meets sensor errors it never saw); only a row
+   on the tier it was trained on can be the headline;
 3. the MPC reference on the first ``MPC_EPISODES`` test scenarios (``--processes`` in parallel).
 
 A run of the protocol's size stores phases 1 and 3 (per episode) in
@@ -124,7 +126,8 @@ SMOKE = Settings(smoke=True, episodes=2, episode_steps=3, mpc_episodes=1, hindsi
 
 @dataclass
 class LearnedGroup:
-    """One learned row: an algorithm's runs (one policy per training seed), trained on ``tier``."""
+    """One algorithm's runs (one policy per training seed) trained on ``tier``: a row on the board
+    of every tier evaluated (:meth:`row_name`)."""
 
     name: str
     algo: str
@@ -322,6 +325,9 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
             "deterministic": deterministic,
             **({"deterministic_note": f"every seed gives this tier the same episode (scenario and sensor draw nothing "
                                       f"at random), so one test episode stands for the protocol's {P.TEST_EPISODES}; "
+                                      "the validation episode is then the test episode, so the validation constant is "
+                                      "the hindsight constant, and unless the MPC beats it the denominator is the floor: "
+                                      "scores are return differences in units of one quasi-periodic interval's cost; "
                                       "the intervals of the learned rows cover the training seeds only"}
                if deterministic else {}),
             "protocol": not deviations, "protocol_deviations": deviations,
@@ -355,7 +361,7 @@ def build_parser() -> argparse.ArgumentParser:
     ap.add_argument("--pretrained", action="store_true", help="add the shipped policies of agents/pretrained/<algo>/")
     ap.add_argument("--pretrained-dir", default=str(PRETRAINED_DIR))
     ap.add_argument("--episodes", type=int, help=f"test episodes (default: the protocol's {P.TEST_EPISODES}; "
-                                                 "fewer is recorded as a deviation)")
+                                                 "fewer is recorded as a deviation; a deterministic tier runs one)")
     ap.add_argument("--mpc-episodes", type=int, help=f"MPC subset (default {P.MPC_EPISODES}; 0 skips the MPC)")
     ap.add_argument("--processes", type=int, default=2, help="parallel MPC episodes (default %(default)d)")
     ap.add_argument("--store", default=str(STORE_PATH), help="stored validation-chosen constants")
@@ -374,7 +380,8 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     s = SMOKE if a.smoke else FULL
     if a.episodes is not None:
         if a.episodes < 2:
-            raise SystemExit("--episodes must be >= 2 (an interval needs two episodes)")
+            raise SystemExit("--episodes must be >= 2 (an interval over episodes needs two; a deterministic tier "
+                             "runs one whatever --episodes says)")
         s = dataclasses.replace(s, episodes=a.episodes)
     if a.mpc_episodes is not None:
         if a.mpc_episodes < 0:
@@ -393,8 +400,10 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
                                               "iqm": "rliable.metrics.aggregate_iqm",
                                               "intervals": "rliable.library.get_interval_estimates, 95 %, percentile"},
                                "tiers": {}}
-    protocol_size = not s.smoke and s.episodes == P.TEST_EPISODES and s.mpc_episodes == P.MPC_EPISODES
     for tier in a.tier:
+        st = s.for_tier(tier)
+        protocol_size = (not s.smoke and st.episodes == P.episodes_for_tier(tier, P.TEST_EPISODES)
+                         and st.mpc_episodes == P.episodes_for_tier(tier, P.MPC_EPISODES))
         stored = load_references(tier, Path(a.references_dir)) if a.stored_references else None
         results["tiers"][tier] = run_tier(tier, s, groups, Path(a.store), Path(a.contextual_dir), out.parent,
                                           processes=1 if s.smoke else a.processes, stored=stored,

@@ -168,9 +168,9 @@ def preload_grid(step_n: float, min_n: float | None = None, max_n: float | None 
 def episodes_for_tier(tier: str, episodes: int, minimum: int = 1) -> int:
     """How many of the protocol's ``episodes`` a run on ``tier`` takes: all of them, or on a
     deterministic tier (every seed gives the same episode,
-    :func:`bearing_gym.envs.tiers.tier_is_deterministic`: ``paper``) ``minimum`` - the others
-    would be copies of it. ``minimum`` is what the consumer needs (the contextual fit's ridge
-    needs 3 rows)."""
+    :func:`bearing_gym.envs.tiers.tier_is_deterministic`: ``paper``) ``min(episodes, minimum)``
+    (at least 1 unless ``episodes`` is 0) - the others would be copies. ``minimum`` is what the
+    consumer needs (the contextual fit's ridge needs 3 rows)."""
     from bearing_gym.envs.tiers import tier_is_deterministic
     return min(episodes, max(1, minimum)) if tier_is_deterministic(tier) else episodes
 

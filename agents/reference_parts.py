@@ -66,8 +66,13 @@ def _path(tier: str, kind: str, first: int, n: int, data_dir: Path) -> Path:
     return parts_dir(tier, data_dir) / f"{kind}_{first}_{n}.json"
 
 
-def missing(tier: str, s: Settings = FULL, data_dir: Path = DATA_DIR) -> list[tuple[str, int, int]]:
-    return [p for p in plan(s) if not _path(tier, *p, data_dir).exists()]
+def _tier_settings(tier: str, s: Settings | None) -> Settings:
+    """``s``, or the protocol's settings on ``tier`` (one episode of each kind on a deterministic tier)."""
+    return FULL.for_tier(tier) if s is None else s
+
+
+def missing(tier: str, s: Settings | None = None, data_dir: Path = DATA_DIR) -> list[tuple[str, int, int]]:
+    return [p for p in plan(_tier_settings(tier, s)) if not _path(tier, *p, data_dir).exists()]
 
 
 def _settings(tier: str, s: Settings, preload_n: float) -> dict[str, Any]:
@@ -79,9 +84,10 @@ def _settings(tier: str, s: Settings, preload_n: float) -> dict[str, Any]:
             "mpc_source_sha1": hashlib.sha1(Path(mpc_module.__file__).read_bytes()).hexdigest()}
 
 
-def compute_part(tier: str, kind: str, first: int, n: int, s: Settings = FULL, store: Path = STORE_PATH,
+def compute_part(tier: str, kind: str, first: int, n: int, s: Settings | None = None, store: Path = STORE_PATH,
                  data_dir: Path = DATA_DIR, processes: int = 2) -> Path:
     """Compute one part and write it; returns its path."""
+    s = _tier_settings(tier, s)
     choice = load_choice(tier, store)
     t0 = time.time()
     head = _settings(tier, s, choice.preload_n)
@@ -106,8 +112,9 @@ def compute_part(tier: str, kind: str, first: int, n: int, s: Settings = FULL, s
     return path
 
 
-def merge(tier: str, s: Settings = FULL, data_dir: Path = DATA_DIR, store: Path = STORE_PATH) -> Path:
+def merge(tier: str, s: Settings | None = None, data_dir: Path = DATA_DIR, store: Path = STORE_PATH) -> Path:
     """Join every part into the stored references of ``tier`` (references_path) and save them."""
+    s = _tier_settings(tier, s)
     todo = missing(tier, s, data_dir)
     if todo:
         raise FileNotFoundError(f"{len(todo)} parts of tier {tier} are missing (first: {todo[0][0]} from seed "
@@ -157,7 +164,7 @@ def main(argv: list[str] | None = None) -> int:
     if a.next is not None and a.next < 1:
         ap.error(f"--next must be >= 1, got {a.next}")
     data_dir = Path(a.data_dir)
-    s = FULL.for_tier(a.tier)            # one episode of each kind on a deterministic tier
+    s = _tier_settings(a.tier, None)     # one episode of each kind on a deterministic tier
     todo = missing(a.tier, s, data_dir=data_dir)
     if a.status:
         done = len(plan(s)) - len(todo)

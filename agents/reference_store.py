@@ -91,12 +91,16 @@ class ValidationChoice:
 
     def validation_references(self, seeds) -> tuple["np.ndarray", "np.ndarray"]:
         """(the chosen constant's return, the hindsight best constant's return) on each validation
-        episode of ``seeds`` (each one of :attr:`seeds`): 0 and 1 of the validation score."""
+        episode of ``seeds`` (each one of :attr:`seeds`, or any validation seed on a deterministic
+        tier, where every seed gives the stored episode): 0 and 1 of the validation score."""
         import numpy as np
+        from bearing_gym.envs.tiers import tier_is_deterministic
         if self.episode_returns is None:
             raise LookupError(f"tier {self.tier}: the stored choice has no per-episode returns; rebuild it: "
                               f"{rebuild_command(self.tier)}")
         where = {s: k for k, s in enumerate(self.seeds)}
+        if tier_is_deterministic(self.tier):
+            where = {s: 0 for s in seeds if range_of(s) == "validation"}
         missing = [s for s in seeds if s not in where]
         if missing:
             raise ValueError(f"tier {self.tier}: seed {missing[0]} is not one of the stored validation episodes "

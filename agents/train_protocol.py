@@ -45,7 +45,7 @@ from bearing_gym.benchmark import DEFAULT_TIER
 from . import protocol as P
 from .leaderboard import PRETRAINED_DIR
 
-__all__ = ["RUNS", "run_dir", "collected_dir", "is_done", "is_running", "run_summary", "train_run", "collect", "ship", "main"]
+__all__ = ["RUNS", "run_dir", "collected_dir", "is_done", "is_running", "best_checkpoint", "run_summary", "train_run", "collect", "ship", "main"]
 
 ROOT = Path(__file__).resolve().parent.parent
 TRAINED_DIR = Path(__file__).with_name("trained")

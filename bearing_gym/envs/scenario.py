@@ -168,11 +168,13 @@ class ScenarioDistribution:
 
     @property
     def deterministic(self) -> bool:
-        """True if every draw is the same scenario: no events and every range a single value."""
+        """True if every draw is the same scenario: no events, every range a single value and no
+        radial load (its direction is drawn at random whatever its size)."""
         fixed = all(isinstance(r, (int, float)) or r[0] == r[1]
                     for r in (self.speed_rpm, self.radial_load_n, self.clearance_m, self.waviness_amplitude_m,
                               self.eccentricity_m, self.initial_preload_n))
-        return fixed and self.events == 0
+        no_load = (self.radial_load_n if isinstance(self.radial_load_n, (int, float)) else max(self.radial_load_n)) == 0
+        return fixed and no_load and self.events == 0
 
     def _new_level(self, rng: np.random.Generator, r: _Range, current: float, min_change: float) -> float:
         if isinstance(r, (int, float)):

@@ -12,7 +12,7 @@ from agents import leaderboard
 REQUIRED = ("normalised_score_iqm", "ci_low", "ci_high", "n_seeds", "n_episodes")
 
 
-def _untrained_run(d, seed):
+def _untrained_run(d, seed, tier="transient"):
     """A train.py-like run directory holding an untrained PPO (no training: the weights are the
     seed's initialisation), enough to exercise the learned-policy path."""
     from stable_baselines3 import PPO
@@ -22,7 +22,7 @@ def _untrained_run(d, seed):
     env = VecNormalize(BearingPreloadSB3VecEnv(num_envs=1, tier="transient", episode_steps=3, max_episode_steps=3))
     PPO("MlpPolicy", env, n_steps=8, batch_size=8, seed=seed, device="cpu").save(d / "model.zip")
     env.save(str(d / "vec_normalize.pkl"))
-    (d / "config.json").write_text(json.dumps({"algo": "ppo", "seed": seed, "tier": "transient", "num_timesteps": 0}))
+    (d / "config.json").write_text(json.dumps({"algo": "ppo", "seed": seed, "tier": tier, "num_timesteps": 0}))
 
 
 def test_smoke_leaderboard_writes_every_row_with_its_statistics(tmp_path):
@@ -131,3 +131,14 @@ def test_a_deterministic_tier_runs_one_episode_and_names_policies_trained_elsewh
     returns = {k: r["mean_return"] for k, r in by.items()}
     assert len(set(returns.values())) == 1, returns
     assert "Deterministic tier" in (out.parent / "results_table.md").read_text()
+
+
+def test_the_after_training_board_on_a_deterministic_tier_keeps_the_stored_references(tmp_path):
+    """train.py --tier paper --eval-episodes 20: the board runs the one paper episode with the
+    committed references (MPC included), not 20 copies with the hindsight recomputed."""
+    from agents.after_training import evaluate_run
+    _untrained_run(tmp_path, 0, tier="paper")
+    board = evaluate_run(tmp_path, episodes=20, tier="paper", pretrained_dir=tmp_path / "no_shipped")
+    assert board["episodes"] == 1 and board["mpc_episodes"] == 1 and board["references"].startswith("stored")
+    assert not any("episodes" in x for x in board["protocol_deviations"]), board["protocol_deviations"]
+    assert "short demo on 1 of those episodes" in (tmp_path / "leaderboard.md").read_text()

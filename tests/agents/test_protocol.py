@@ -73,8 +73,10 @@ def test_the_references_draw_from_their_ranges():
     assert protocol.range_of(references.build_parser().get_default("seed")) == "validation"
     fit = contextual.build_parser()
     first = fit.get_default("seed")
-    last = first + protocol.CONTEXTUAL_FIT_EPISODES - 1        # the default on a random tier
+    last = first + contextual.fit_episodes("transient") - 1      # what the command runs when --episodes is not given
     assert fit.get_default("episodes") is None and protocol.range_of(first) == protocol.range_of(last) == "train"
+    assert contextual.fit_episodes("transient") == protocol.CONTEXTUAL_FIT_EPISODES
+    assert contextual.fit_episodes("paper") == contextual.MIN_FIT_EPISODES
     with pytest.raises(ValueError, match="leave the test range"):
         protocol.held_out_seeds(len(protocol.TEST) + 1)
 

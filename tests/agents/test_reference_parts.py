@@ -13,12 +13,16 @@ from agents.references import hindsight_reference, run_mpc
 from agents.stored_references import load_references, result_to_json
 
 
-def test_the_parts_cover_the_test_episodes_and_the_mpc_subset_once():
+def test_the_parts_cover_the_test_episodes_and_the_mpc_subset_once(tmp_path):
     parts = RP.plan(FULL)
     sweep = [s for k, f, n in parts if k == "sweep" for s in range(f, f + n)]
     mpc = [s for k, f, n in parts if k == "mpc" for s in range(f, f + n)]
     assert sweep == list(P.held_out_seeds(P.TEST_EPISODES))
     assert mpc == list(P.held_out_seeds(P.TEST_EPISODES))[:P.MPC_EPISODES]
+    # the deterministic paper tier: one episode of each kind, also where no settings are given
+    one = [("sweep", P.TEST.start, 1), ("mpc", P.TEST.start, 1)]
+    assert RP.plan(FULL.for_tier("paper")) == one
+    assert RP.missing("paper", data_dir=tmp_path) == one and len(RP.missing("transient", data_dir=tmp_path)) == len(parts)
 
 
 def test_parts_merge_to_the_one_go_references_and_a_missing_or_foreign_part_is_refused(tmp_path, monkeypatch):

@@ -103,7 +103,14 @@ def test_evaluation_reads_the_stored_constant_instead_of_choosing_on_its_episode
 def test_one_validation_episode_is_the_protocol_only_on_a_deterministic_tier():
     grid = preload_grid(50.0)
     means = tuple(-float(k) for k in range(len(grid)))
-    one = {tier: ValidationChoice(tier, grid[0], (VALIDATION.start,), 50.0, grid, means, 150)
+    one = {tier: ValidationChoice(tier, grid[0], (VALIDATION.start,), 50.0, grid, means, 150,
+                                  episode_returns=tuple((m,) for m in means))
            for tier in ("paper", "transient")}
     assert one["paper"].protocol_problems() == []
     assert one["transient"].protocol_problems() == ["1 validation episodes (the protocol: 50)"]
+    # the learning curves score every validation episode of a paper run against the one stored
+    seeds = range(VALIDATION.start, VALIDATION.start + 3)
+    r0, r1 = one["paper"].validation_references(seeds)
+    assert r0.shape == r1.shape == (3,) and len(set(r0)) == 1 and np.all(r1 >= r0)
+    with pytest.raises(ValueError, match="not one of the stored validation episodes"):
+        one["transient"].validation_references(seeds)

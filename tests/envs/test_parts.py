@@ -264,8 +264,14 @@ def test_a_deterministic_tier_gives_every_seed_the_same_episode(tier):
 def test_deterministic_parts_say_so():
     assert FixedScenario().deterministic and ObservationModel().deterministic
     assert not ScenarioDistribution().deterministic
-    assert ScenarioDistribution(speed_rpm=15000.0, radial_load_n=(100.0, 100.0), clearance_m=5e-6,
-                                waviness_amplitude_m=0.0, eccentricity_m=1e-5, initial_preload_n=900.0).deterministic
+    fixed = dict(speed_rpm=15000.0, clearance_m=5e-6, waviness_amplitude_m=0.0, eccentricity_m=1e-5,
+                 initial_preload_n=(900.0, 900.0))
+    assert ScenarioDistribution(radial_load_n=0.0, **fixed).deterministic
+    # a fixed radial load still has a random direction (sample draws its angle)
+    loaded = ScenarioDistribution(radial_load_n=(100.0, 100.0), **fixed)
+    assert not loaded.deterministic
+    a, b = (loaded.sample(np.random.default_rng(k), 3.0) for k in (1, 2))
+    assert a.radial_load_angle_rad != b.radial_load_angle_rad
     assert not ScenarioDistribution(speed_rpm=15000.0, radial_load_n=100.0, clearance_m=5e-6, waviness_amplitude_m=0.0,
                                     eccentricity_m=1e-5, initial_preload_n=900.0, events=1).deterministic
     assert not ObservationModel(displacement_noise_m=1e-7).deterministic
