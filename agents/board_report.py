@@ -9,7 +9,7 @@ from typing import Any
 import numpy as np
 
 from . import scoring
-from .evaluate import EvalResult
+from .eval_result import EvalResult
 
 __all__ = ["summarise", "to_markdown"]
 

@@ -35,11 +35,12 @@ from bearing_gym.benchmark import DEFAULT_TIER, TIER_NAMES
 
 from . import mpc as mpc_module
 from . import protocol as P
-from .evaluate import EvalResult, sweep_row
+from .eval_result import EvalResult
+from .evaluate import sweep_row
 from .leaderboard import FULL, Settings
 from .reference_store import STORE_PATH, load_choice
 from .references import hindsight_reference, run_mpc
-from .stored_references import DATA_DIR, StoredReferences, result_from_json, result_to_json, references_path
+from .stored_references import DATA_DIR, StoredReferences, result_from_json, result_to_json
 
 __all__ = ["SWEEP_PART_EPISODES", "MPC_PART_EPISODES", "parts_dir", "plan", "missing", "compute_part", "merge", "main"]
 
@@ -169,7 +170,7 @@ def main(argv: list[str] | None = None) -> int:
     if a.status:
         done = len(plan(s)) - len(todo)
         print(f"tier {a.tier}: {done}/{len(plan(s))} parts done in {parts_dir(a.tier, data_dir)}"
-              + (f"; next: {todo[0][0]} from seed {todo[0][1]}" if todo else f"; merge them: --merge"))
+              + (f"; next: {todo[0][0]} from seed {todo[0][1]}" if todo else "; merge them: --merge"))
         return 0
     if a.merge:
         print(f"wrote {merge(a.tier, s, data_dir=data_dir)}")

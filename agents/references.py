@@ -39,7 +39,8 @@ from bearing_gym.benchmark import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
 from bearing_gym.envs.reward import REWARD_TERMS
 
 from .contextual import ContextualConstant
-from .evaluate import EvalResult, constant_sweep, hindsight_constant
+from .eval_result import EvalResult
+from .evaluate import constant_sweep, hindsight_constant
 from .mpc import RecedingHorizonMPC
 from .protocol import (HINDSIGHT_GRID_STEP_N, VALIDATION, VALIDATION_CONSTANT_EPISODES, VALIDATION_GRID_STEP_N,
                        episodes_for_tier, preload_grid, validation_seeds)

@@ -29,7 +29,7 @@ import numpy as np
 
 from bearing_gym.envs.reward import REWARD_TERMS
 
-from .evaluate import EvalResult
+from .eval_result import EvalResult
 
 __all__ = ["StoredReferences", "references_path", "load_references", "result_to_json", "result_from_json",
            "STALE_TOLERANCE", "DATA_DIR"]

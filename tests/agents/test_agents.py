@@ -244,7 +244,7 @@ def test_hindsight_constant_takes_the_best_candidate_of_each_scenario():
 
 
 def test_paired_difference_matches_a_hand_computed_t_interval():
-    from agents.evaluate import paired_difference
+    from agents.eval_report import paired_difference
     a = _result("a", [-10.0, -20.0, -33.0, -41.0])
     b = _result("b", [-12.0, -25.0, -34.0, -45.0])
     m, lo, hi = paired_difference(a, b)
@@ -270,7 +270,7 @@ def _diverging(limit_m):
 
 
 def test_evaluation_reports_episodes_that_all_terminate_in_the_same_step(tmp_path):
-    from agents.evaluate import write_report
+    from agents.eval_report import write_report
     from bearing_gym.envs.reward import VibrationFirstReward
     # every env of the batch ends in the same step: the next venv.step would only autoreset them
     res = run_policies([ConstantPreload(300.0)], episodes=2, seed=0, episode_steps=25,
@@ -304,7 +304,8 @@ def test_terminated_episodes_do_not_disturb_the_others_in_the_batch():
 
 
 def test_trace_figure_names_its_scenario_shows_the_hindsight_reference_and_labels_every_axis():
-    from agents.evaluate import hindsight_constant, plot_traces
+    from agents.eval_report import plot_traces
+    from agents.evaluate import hindsight_constant
     sweep = run_policies([ConstantPreload(800.0), ConstantPreload(1400.0)], episodes=2, seed=100000, episode_steps=4)
     h = hindsight_constant(sweep)
     chosen = sweep[int(np.argmax([r.returns[0] for r in sweep]))]

@@ -4,7 +4,6 @@ reference and a learned algorithm with two training seeds, written to results.js
 import json
 import math
 
-import numpy as np
 import pytest
 
 from agents import leaderboard
