@@ -1,6 +1,7 @@
 """A policy's results on a batch of evaluation episodes (:class:`EvalResult`): per episode the
-return, the reward terms, the time quasi-periodic, the mean preload, early termination and the
-first observation, plus the first episode's trace; cut, joined and summarised."""
+return, the reward terms, the time quasi-periodic, the mean preload, early termination, the first
+observation and the mean non-synchronous vibration amplitude, plus the first episode's trace and
+scenario; cut, joined and summarised."""
 
 from __future__ import annotations
 

@@ -13,6 +13,7 @@ return per policy) and ``DIR/evaluation_traces.png``. Per policy: mean return wi
 (Student t over episodes), the mean of each reward term, the fraction of control intervals spent
 quasi-periodic (index > QPI_THRESHOLD = 0.1), the mean preload and the number of episodes that terminated early
 (the integrator diverged: the episode ends there, its return holds the termination penalty).
+The report is :mod:`agents.eval_report`; a policy's results, :class:`agents.eval_result.EvalResult`.
 """
 
 from __future__ import annotations

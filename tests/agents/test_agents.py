@@ -224,7 +224,7 @@ def test_validation_scores_every_checkpoint_on_the_same_scenarios(tmp_path, caps
 
 
 def _result(name, returns, qp=None):
-    from agents.evaluate import EvalResult
+    from agents.eval_result import EvalResult
     from bearing_gym.envs.reward import REWARD_TERMS
     r = np.asarray(returns, dtype=float)
     terms = {k: r / len(REWARD_TERMS) for k in REWARD_TERMS}
@@ -353,7 +353,8 @@ def test_recurrent_ppo_trains_saves_and_keeps_its_memory_in_evaluation(tmp_path)
 
 
 def test_eval_result_first_cuts_every_per_episode_array():
-    from agents.evaluate import REWARD_TERMS, EvalResult
+    from agents.eval_result import EvalResult
+    from bearing_gym.envs.reward import REWARD_TERMS
     n = 5
     r = EvalResult("p", np.arange(n, dtype=float), {k: np.arange(n) + i for i, k in enumerate(REWARD_TERMS)},
                    np.linspace(0, 1, n), np.full(n, 900.0), terminated=np.array([0, 1, 0, 0, 1], bool),
@@ -367,7 +368,8 @@ def test_eval_result_first_cuts_every_per_episode_array():
 
 
 def test_eval_result_concat_joins_in_order_and_drops_an_array_one_part_lacks():
-    from agents.evaluate import REWARD_TERMS, EvalResult
+    from agents.eval_result import EvalResult
+    from bearing_gym.envs.reward import REWARD_TERMS
 
     def part(lo, n, vib):
         return EvalResult("p", np.arange(lo, lo + n, dtype=float), {k: np.arange(lo, lo + n) for k in REWARD_TERMS},

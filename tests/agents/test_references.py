@@ -7,7 +7,8 @@ import numpy as np
 import pytest
 
 from agents import references
-from agents.evaluate import EvalResult, evaluate
+from agents.eval_result import EvalResult
+from agents.evaluate import evaluate
 from agents.protocol import TEST, TRAIN, VALIDATION, preload_grid
 from agents.reference_store import STORE_PATH, ValidationChoice, load_choice, save_choice
 from bearing_gym.envs.reward import REWARD_TERMS

@@ -99,7 +99,8 @@ def test_probability_of_improvement_counts_wins_per_episode_with_half_ties():
 
 def test_poi_over_another_row_is_one_half_against_itself_and_one_against_a_worse_row():
     from agents.board_report import summarise
-    from agents.evaluate import REWARD_TERMS, EvalResult
+    from agents.eval_result import EvalResult
+    from bearing_gym.envs.reward import REWARD_TERMS
     rng = np.random.default_rng(3)
     n = 12
     r0, r1 = rng.normal(-150, 10, n), rng.normal(-100, 10, n)
