@@ -34,7 +34,8 @@ def summarise(kind: str, results: list[EvalResult], r0: np.ndarray, r1: np.ndarr
               bootstrap_reps: int, poi_reps: int, versus: dict[str, EvalResult] | None = None,
               **extra: Any) -> dict[str, Any]:
     """One row of results.json: the normalised scores of ``results`` (one EvalResult per run,
-    all on the episodes of ``r0``/``r1``) aggregated with rliable, and the raw metrics.
+    all on the episodes of ``r0``/``r1``) aggregated with rliable, the raw metrics and every
+    return (``episode_returns``, runs x episodes, the tier's test seeds in order).
     ``versus``: other rows' results on the same episodes, each given as the probability that
     this row improves on it (``poi_over``: P, 95 % low, high; e.g. over the contextual constant,
     the test of whether a policy does more than pick one preload from the first observation)."""
@@ -56,6 +57,7 @@ def summarise(kind: str, results: list[EvalResult], r0: np.ndarray, r1: np.ndarr
             scores, scoring.normalised_scores(np.atleast_2d(other.returns), r0, r1), reps=poi_reps))
             for name, other in versus.items()}
     row.update(_metrics(results))
+    row["episode_returns"] = returns.tolist()        # (runs, episodes): for statistics of your own
     row.update(extra)
     return row
 

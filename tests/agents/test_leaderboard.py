@@ -4,6 +4,7 @@ reference and a learned algorithm with two training seeds, written to results.js
 import json
 import math
 
+import numpy as np
 import pytest
 
 from agents import leaderboard
@@ -48,6 +49,9 @@ def test_smoke_leaderboard_writes_every_row_with_its_statistics(tmp_path):
         assert all(k in r for k in REQUIRED), name
         assert all(math.isfinite(r[k]) for k in ("normalised_score_iqm", "ci_low", "ci_high", "mean_return")), name
         assert r["ci_low"] - 1e-12 <= r["normalised_score_iqm"] <= r["ci_high"] + 1e-12, name
+        per_episode = np.array(r["episode_returns"])
+        assert per_episode.shape == (r["n_seeds"], r["n_episodes"]), name
+        assert per_episode.mean() == pytest.approx(r["mean_return"], rel=1e-12), name
     by = {k: next(r for n, r in rows.items() if n.startswith(k)) for k in kinds}
     # the validation constant is the zero; the hindsight constant (it includes the validation
     # constant among its candidates) is at or above it and at most the upper reference
