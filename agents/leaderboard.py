@@ -257,7 +257,7 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
     t0 = time.time()
     s = s.for_tier(tier)
     deterministic = tier_is_deterministic(tier)
-    want_episodes = P.episodes_for_tier(tier, P.TEST_EPISODES)
+    protocol_s = FULL.for_tier(tier)     # the protocol's test and MPC episodes on this tier
     deviations: list[str] = []
     choice = _validation_choice(tier, s, store, out_dir, progress)
     deviations += [f"validation constant: {p}" for p in choice.protocol_problems()]
@@ -308,10 +308,10 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
         want = len(P.training_seeds(g.algo)) if g.algo in P.ALGORITHMS else None
         if not g.shipped and want is not None and len(g.policies) < want:
             deviations.append(f"{g.row_name(tier)}: {len(g.policies)} training seeds (the protocol: {want})")
-    if s.episodes < want_episodes:
-        deviations.append(f"{s.episodes} test episodes (the protocol: {want_episodes})")
-    if m < min(P.episodes_for_tier(tier, P.MPC_EPISODES), s.episodes):
-        deviations.append(f"MPC on {m} episodes (the protocol: {P.episodes_for_tier(tier, P.MPC_EPISODES)})")
+    if s.episodes < protocol_s.episodes:
+        deviations.append(f"{s.episodes} test episodes (the protocol: {protocol_s.episodes})")
+    if m < min(protocol_s.mpc_episodes, s.episodes):
+        deviations.append(f"MPC on {m} episodes (the protocol: {protocol_s.mpc_episodes})")
     if m < min(s.mpc_episodes, s.episodes):
         deviations.append(f"MPC on the {m} stored episodes ({s.mpc_episodes} asked for)")
     if s.episode_steps != EPISODE_STEPS:
@@ -402,8 +402,8 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
                                "tiers": {}}
     for tier in a.tier:
         st = s.for_tier(tier)
-        protocol_size = (not s.smoke and st.episodes == P.episodes_for_tier(tier, P.TEST_EPISODES)
-                         and st.mpc_episodes == P.episodes_for_tier(tier, P.MPC_EPISODES))
+        protocol_s = FULL.for_tier(tier)
+        protocol_size = not s.smoke and (st.episodes, st.mpc_episodes) == (protocol_s.episodes, protocol_s.mpc_episodes)
         stored = load_references(tier, Path(a.references_dir)) if a.stored_references else None
         results["tiers"][tier] = run_tier(tier, s, groups, Path(a.store), Path(a.contextual_dir), out.parent,
                                           processes=1 if s.smoke else a.processes, stored=stored,

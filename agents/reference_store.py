@@ -17,18 +17,23 @@ from pathlib import Path
 from .protocol import (VALIDATION, VALIDATION_CONSTANT_EPISODES, VALIDATION_GRID_STEP_N, episodes_for_tier,
                        preload_grid, range_of)
 
-__all__ = ["STORE_PATH", "ValidationChoice", "load_choice", "save_choice", "rebuild_command"]
+__all__ = ["STORE_PATH", "ValidationChoice", "load_choice", "save_choice", "rebuild_command", "validation_episodes"]
 
 STORE_PATH = Path(__file__).with_name("data") / "reference_constants.json"
 ABOUT = ("Per tier: the constant preload with the best mean return on validation episodes "
          "(agents.references); rebuild an entry with `python -m agents.references --tier T --episodes N`.")
 
 
+def validation_episodes(tier: str) -> int:
+    """The protocol's number of validation episodes for ``tier``'s constant (1 on a deterministic tier)."""
+    return episodes_for_tier(tier, VALIDATION_CONSTANT_EPISODES)
+
+
 def rebuild_command(tier: str, episodes: int | None = None) -> str:
-    """The command that (re)builds ``tier``'s entry of the store (by default the protocol's
-    episodes: :func:`agents.protocol.episodes_for_tier`)."""
+    """The command that (re)builds ``tier``'s entry of the store (by default on the protocol's
+    episodes: :func:`validation_episodes`)."""
     if episodes is None:
-        episodes = episodes_for_tier(tier, VALIDATION_CONSTANT_EPISODES)
+        episodes = validation_episodes(tier)
     return f"python -m agents.references --tier {tier} --episodes {episodes}"
 
 
@@ -80,7 +85,7 @@ class ValidationChoice:
         episodes, short episodes, another grid."""
         from bearing_gym.benchmark import EPISODE_STEPS
         out = []
-        want = episodes_for_tier(self.tier, VALIDATION_CONSTANT_EPISODES)
+        want = validation_episodes(self.tier)
         if self.episodes < want:
             out.append(f"{self.episodes} validation episodes (the protocol: {want})")
         if self.episode_steps != EPISODE_STEPS:

@@ -43,8 +43,8 @@ from .eval_result import EvalResult
 from .evaluate import constant_sweep, hindsight_constant
 from .mpc import RecedingHorizonMPC
 from .protocol import (HINDSIGHT_GRID_STEP_N, VALIDATION, VALIDATION_CONSTANT_EPISODES, VALIDATION_GRID_STEP_N,
-                       episodes_for_tier, preload_grid, validation_seeds)
-from .reference_store import STORE_PATH, ValidationChoice, save_choice
+                       preload_grid, validation_seeds)
+from .reference_store import STORE_PATH, ValidationChoice, save_choice, validation_episodes
 
 __all__ = ["choose_validation_constant", "hindsight_reference", "run_mpc", "ContextualConstant", "main"]
 
@@ -148,7 +148,7 @@ def build_parser() -> argparse.ArgumentParser:
 def main(argv: list[str] | None = None) -> None:
     a = build_parser().parse_args(argv)
     if a.episodes is None:
-        a.episodes = episodes_for_tier(a.tier, VALIDATION_CONSTANT_EPISODES)
+        a.episodes = validation_episodes(a.tier)
     grid = preload_grid(a.grid_step)
     print(f"validation constant, tier {a.tier}: {len(grid)} constants x {a.episodes} validation episodes x "
           f"{a.episode_steps} steps = {len(grid) * a.episodes * a.episode_steps:,} env steps", flush=True)
