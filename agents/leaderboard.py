@@ -37,7 +37,8 @@ denominator floor of one quasi-periodic interval's cost, IQM with stratified-boo
 intervals and the probability of improvement over the validation constant, with rliable). It
 writes ``results.json`` (per tier and per policy: ``normalised_score_iqm``, ``ci_low``,
 ``ci_high``, ``n_seeds``, ``n_episodes`` and the raw metrics) and a markdown table beside it;
-the full mode writes ``docs/results.json`` and ``docs/results_table.md``. Every departure from the
+a full run with ``--model`` writes ``docs/results.json`` and ``docs/results_table.md`` (the
+shipped policies alone, without ``--model``: ``runs/leaderboard_pretrained/``). Every departure from the
 protocol (fewer episodes, a provisional stored constant, no MPC) is listed in
 ``protocol_deviations`` and the tier is marked ``"protocol": false``.
 
@@ -353,6 +354,16 @@ def _protocol_summary() -> dict[str, Any]:
             "denominator_floor": scoring.DENOMINATOR_FLOOR}
 
 
+def default_out(smoke: bool, models_given: bool) -> Path:
+    """docs/results.json is the protocol's leaderboard: only a full run of ``--model`` runs
+    writes it by default; a smoke run or a board of the shipped policies alone goes to runs/."""
+    if smoke:
+        return ROOT / "runs" / "leaderboard_smoke" / "results.json"
+    if not models_given:
+        return ROOT / "runs" / "leaderboard_pretrained" / "results.json"
+    return ROOT / "docs" / "results.json"
+
+
 def build_parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(description="The leaderboard: learned policies and references as normalised scores.")
     ap.add_argument("--smoke", action="store_true", help="the pipeline at a tiny budget (2 episodes); for CI")
@@ -370,8 +381,10 @@ def build_parser() -> argparse.ArgumentParser:
                     help="take the validation constant, hindsight and MPC rows from agents/data/test_references_<tier>.json "
                          "(written by a protocol run of this command) instead of computing them: minutes, not an hour")
     ap.add_argument("--references-dir", default=str(DATA_DIR), help="where the stored test references are")
-    ap.add_argument("--out", help="results.json path (default: docs/results.json; with --smoke "
-                                  "runs/leaderboard_smoke/results.json); the markdown table goes beside it")
+    ap.add_argument("--out", help="results.json path (default: docs/results.json for a full run with --model; "
+                                  "runs/leaderboard_smoke/results.json with --smoke; "
+                                  "runs/leaderboard_pretrained/results.json for the shipped policies alone); "
+                                  "the markdown table goes beside it")
     return ap
 
 
@@ -387,8 +400,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         if a.mpc_episodes < 0:
             raise SystemExit("--mpc-episodes must be >= 0")
         s = dataclasses.replace(s, mpc_episodes=a.mpc_episodes)
-    out = Path(a.out) if a.out else (ROOT / "runs" / "leaderboard_smoke" / "results.json" if a.smoke
-                                     else ROOT / "docs" / "results.json")
+    out = Path(a.out) if a.out else default_out(a.smoke, bool(a.model))
     md = out.with_name("results_table.md") if out.name == "results.json" else out.with_suffix(".md")
     out.parent.mkdir(parents=True, exist_ok=True)
     t0 = time.time()

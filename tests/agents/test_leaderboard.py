@@ -145,3 +145,10 @@ def test_the_after_training_board_on_a_deterministic_tier_keeps_the_stored_refer
     assert board["episodes"] == 1 and board["mpc_episodes"] == 1 and board["references"].startswith("stored")
     assert not any("episodes" in x for x in board["protocol_deviations"]), board["protocol_deviations"]
     assert "short demo on 1 of those episodes" in (tmp_path / "leaderboard.md").read_text()
+
+
+def test_only_a_run_of_trained_models_overwrites_the_committed_leaderboard():
+    from agents.leaderboard import ROOT, default_out
+    assert default_out(smoke=False, models_given=True) == ROOT / "docs" / "results.json"
+    for smoke, models in ((False, False), (True, True), (True, False)):
+        assert default_out(smoke, models).parent.parent == ROOT / "runs"
