@@ -86,6 +86,8 @@ def to_markdown(results: dict[str, Any]) -> str:
                   f"{t['episodes']} test episodes (seeds {t['seeds'][0]}..{t['seeds'][1]}) of {t['episode_steps']} "
                   f"intervals; upper reference: {t['upper_reference']}; denominator floor "
                   f"{t['denominator_floor']:g} reward units, reached on {t['floored_episodes']} episodes.", ""]
+        if t.get("command", results["command"]) != results["command"]:
+            lines += [f"Rows of this tier made by `{t['command']}` (kept by --keep-other-tiers).", ""]
         if t.get("deterministic_note"):
             lines += ["Deterministic tier: " + t["deterministic_note"] + ".", ""]
         if not t["protocol"]:

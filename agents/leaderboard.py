@@ -364,6 +364,19 @@ def default_out(smoke: bool, models_given: bool) -> Path:
     return ROOT / "docs" / "results.json"
 
 
+def kept_tiers(previous: dict[str, Any], results: dict[str, Any], tiers: list[str]) -> dict[str, Any]:
+    """``--keep-other-tiers``: the tiers of an earlier results.json that this run does not
+    recompute, each with the command that made it. Refused (ValueError naming what differs) if
+    the earlier file was made under another protocol, mode or statistics: rows on one page must
+    be comparable."""
+    for key in ("benchmark", "mode", "protocol", "statistics"):
+        if json.loads(json.dumps(previous.get(key))) != json.loads(json.dumps(results[key])):
+            raise ValueError(f"the earlier results.json differs in {key!r}: its tiers cannot stand beside this run's; "
+                             "run every tier again (without --keep-other-tiers)")
+    return {t: {**v, "command": v.get("command", previous.get("command"))}
+            for t, v in previous["tiers"].items() if t not in tiers}
+
+
 def build_parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(description="The leaderboard: learned policies and references as normalised scores.")
     ap.add_argument("--smoke", action="store_true", help="the pipeline at a tiny budget (2 episodes); for CI")
@@ -381,6 +394,9 @@ def build_parser() -> argparse.ArgumentParser:
                     help="take the validation constant, hindsight and MPC rows from agents/data/test_references_<tier>.json "
                          "(written by a protocol run of this command) instead of computing them: minutes, not an hour")
     ap.add_argument("--references-dir", default=str(DATA_DIR), help="where the stored test references are")
+    ap.add_argument("--keep-other-tiers", action="store_true",
+                    help="keep the tiers of the existing results.json at --out that this run does not compute "
+                         "(same protocol, mode and statistics, or refused); each tier records its command")
     ap.add_argument("--out", help="results.json path (default: docs/results.json for a full run with --model; "
                                   "runs/leaderboard_smoke/results.json with --smoke; "
                                   "runs/leaderboard_pretrained/results.json for the shipped policies alone); "
@@ -412,6 +428,12 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
                                               "iqm": "rliable.metrics.aggregate_iqm",
                                               "intervals": "rliable.library.get_interval_estimates, 95 %, percentile"},
                                "tiers": {}}
+    kept: dict[str, Any] = {}
+    if a.keep_other_tiers and out.exists():
+        try:
+            kept = kept_tiers(json.loads(out.read_text()), results, a.tier)
+        except ValueError as e:
+            raise SystemExit(f"--keep-other-tiers: {e}") from None
     for tier in a.tier:
         st = s.for_tier(tier)
         protocol_s = FULL.for_tier(tier)
@@ -420,6 +442,8 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         results["tiers"][tier] = run_tier(tier, s, groups, Path(a.store), Path(a.contextual_dir), out.parent,
                                           processes=1 if s.smoke else a.processes, stored=stored,
                                           save_references_to=Path(a.references_dir) if protocol_size else None)
+        results["tiers"][tier]["command"] = results["command"]
+    results["tiers"] = {t: {**kept, **results["tiers"]}[t] for t in TIER_NAMES if t in kept or t in results["tiers"]}
     results["wall_s"] = time.time() - t0
     out.write_text(json.dumps(results, indent=1) + "\n")
     text = to_markdown(results)

@@ -152,3 +152,19 @@ def test_only_a_run_of_trained_models_overwrites_the_committed_leaderboard():
     assert default_out(smoke=False, models_given=True) == ROOT / "docs" / "results.json"
     for smoke, models in ((False, False), (True, True), (True, False)):
         assert default_out(smoke, models).parent.parent == ROOT / "runs"
+
+
+def test_keep_other_tiers_keeps_only_what_is_not_recomputed_and_only_under_one_protocol():
+    from agents.leaderboard import kept_tiers
+    head = {"benchmark": "BearingPreload-v0", "mode": "full", "protocol": {"test": [300000, 309999]},
+            "statistics": {"bootstrap_reps": 50000}}
+    previous = {**head, "command": "python -m agents.leaderboard --tier transient paper",
+                "tiers": {"transient": {"episodes": 100}, "paper": {"episodes": 1, "command": "older"}}}
+    now = {**head, "command": "python -m agents.leaderboard --tier stationary paper", "tiers": {}}
+    kept = kept_tiers(previous, now, ["stationary", "paper"])
+    assert list(kept) == ["transient"]                  # paper is recomputed, so not kept
+    assert kept["transient"] == {"episodes": 100, "command": previous["command"]}
+    for key, other in (("protocol", {"test": [100000, 109999]}), ("mode", "smoke"),
+                       ("statistics", {"bootstrap_reps": 10})):
+        with pytest.raises(ValueError, match=key):
+            kept_tiers({**previous, key: other}, now, ["stationary"])
