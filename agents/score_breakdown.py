@@ -5,12 +5,12 @@ stored test references (no simulation).
     python -m agents.score_breakdown --tier transient --row SAC --out docs/score_breakdown_transient.md
 
 For each scenario feature (start, end, lowest and highest shaft speed, highest radial load,
-clearance, waviness, eccentricity, initial preload, and the mean preload the hindsight best constant applied)
-it gives Spearman's rank correlation with the row's score (mean over training seeds) and the
-interquartile mean (the leaderboard's aggregate, robust to the few episodes whose scores run to
--10 and below) of the row's and of the contextual constant's scores in the feature's lower,
-middle and upper third of the episodes; and how often the row beats the contextual constant and the validation
-constant on an episode. It is the "why" of a score interval: it reads the episodes the
+clearance, waviness, eccentricity, initial preload, and the mean preload the hindsight best
+constant applied) it gives Spearman's rank correlation with the row's score (mean over training
+seeds) and the interquartile mean (the leaderboard's aggregate, robust to the few episodes
+whose scores run to -10 and below) of the row's and of the contextual constant's scores in the
+feature's lower, middle and upper third of the episodes; and how often the row beats the
+contextual constant and the validation constant on an episode. It is the "why" of a score interval: it reads the episodes the
 leaderboard ran, it does not test a hypothesis chosen in advance (the p-values are uncorrected
 over the features and are a guide, not evidence).
 """
