@@ -354,21 +354,26 @@ def _protocol_summary() -> dict[str, Any]:
             "denominator_floor": scoring.DENOMINATOR_FLOOR}
 
 
-def default_out(smoke: bool, models_given: bool) -> Path:
-    """docs/results.json is the protocol's leaderboard: only a full run of ``--model`` runs
-    writes it by default; a smoke run or a board of the shipped policies alone goes to runs/."""
+def default_out(smoke: bool, models_given: bool, protocol_size: bool = True) -> Path:
+    """docs/results.json is the protocol's leaderboard: only a run of ``--model`` runs at the
+    protocol's size (no ``--episodes``/``--mpc-episodes``) writes it by default; a smoke run goes
+    to runs/leaderboard_smoke/, a board of the shipped policies alone to
+    runs/leaderboard_pretrained/, a reduced run to runs/leaderboard_reduced/."""
     if smoke:
         return ROOT / "runs" / "leaderboard_smoke" / "results.json"
     if not models_given:
         return ROOT / "runs" / "leaderboard_pretrained" / "results.json"
+    if not protocol_size:
+        return ROOT / "runs" / "leaderboard_reduced" / "results.json"
     return ROOT / "docs" / "results.json"
 
 
 def kept_tiers(previous: dict[str, Any], results: dict[str, Any], tiers: list[str]) -> dict[str, Any]:
     """``--keep-other-tiers``: the tiers of an earlier results.json that this run does not
     recompute, each with the command that made it. Refused (ValueError naming what differs) if
-    the earlier file was made under another protocol, mode or statistics: rows on one page must
-    be comparable."""
+    the earlier file was made under another protocol, mode or statistics. It does not check which
+    policies a kept tier ran or whether it kept to the protocol: each kept tier carries its own
+    command, ``model_dirs`` and ``protocol_deviations``, and the table prints its command."""
     for key in ("benchmark", "mode", "protocol", "statistics"):
         if json.loads(json.dumps(previous.get(key))) != json.loads(json.dumps(results[key])):
             raise ValueError(f"the earlier results.json differs in {key!r}: its tiers cannot stand beside this run's; "
@@ -399,7 +404,8 @@ def build_parser() -> argparse.ArgumentParser:
                          "(same protocol, mode and statistics, or refused); each tier records its command")
     ap.add_argument("--out", help="results.json path (default: docs/results.json for a full run with --model; "
                                   "runs/leaderboard_smoke/results.json with --smoke; "
-                                  "runs/leaderboard_pretrained/results.json for the shipped policies alone); "
+                                  "runs/leaderboard_pretrained/results.json for the shipped policies alone; "
+                                  "runs/leaderboard_reduced/results.json with --episodes or --mpc-episodes); "
                                   "the markdown table goes beside it")
     return ap
 
@@ -416,7 +422,8 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         if a.mpc_episodes < 0:
             raise SystemExit("--mpc-episodes must be >= 0")
         s = dataclasses.replace(s, mpc_episodes=a.mpc_episodes)
-    out = Path(a.out) if a.out else default_out(a.smoke, bool(a.model))
+    out = Path(a.out) if a.out else default_out(a.smoke, bool(a.model),
+                                                protocol_size=a.episodes is None and a.mpc_episodes is None)
     md = out.with_name("results_table.md") if out.name == "results.json" else out.with_suffix(".md")
     out.parent.mkdir(parents=True, exist_ok=True)
     t0 = time.time()

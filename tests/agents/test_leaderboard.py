@@ -152,6 +152,7 @@ def test_only_a_run_of_trained_models_overwrites_the_committed_leaderboard():
     assert default_out(smoke=False, models_given=True) == ROOT / "docs" / "results.json"
     for smoke, models in ((False, False), (True, True), (True, False)):
         assert default_out(smoke, models).parent.parent == ROOT / "runs"
+    assert default_out(False, True, protocol_size=False).parent.parent == ROOT / "runs"
 
 
 def test_keep_other_tiers_keeps_only_what_is_not_recomputed_and_only_under_one_protocol():
