@@ -356,7 +356,7 @@ def _protocol_summary() -> dict[str, Any]:
 
 def default_out(smoke: bool, models_given: bool, protocol_size: bool = True) -> Path:
     """docs/results.json is the protocol's leaderboard: only a run of ``--model`` runs at the
-    protocol's size (no ``--episodes``/``--mpc-episodes``) writes it by default; a smoke run goes
+    protocol's size (the settings equal ``FULL``) writes it by default; a smoke run goes
     to runs/leaderboard_smoke/, a board of the shipped policies alone to
     runs/leaderboard_pretrained/, a reduced run to runs/leaderboard_reduced/."""
     if smoke:
@@ -422,8 +422,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         if a.mpc_episodes < 0:
             raise SystemExit("--mpc-episodes must be >= 0")
         s = dataclasses.replace(s, mpc_episodes=a.mpc_episodes)
-    out = Path(a.out) if a.out else default_out(a.smoke, bool(a.model),
-                                                protocol_size=a.episodes is None and a.mpc_episodes is None)
+    out = Path(a.out) if a.out else default_out(a.smoke, bool(a.model), protocol_size=s == FULL)
     md = out.with_name("results_table.md") if out.name == "results.json" else out.with_suffix(".md")
     out.parent.mkdir(parents=True, exist_ok=True)
     t0 = time.time()
@@ -450,7 +449,8 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
                                           processes=1 if s.smoke else a.processes, stored=stored,
                                           save_references_to=Path(a.references_dir) if protocol_size else None)
         results["tiers"][tier]["command"] = results["command"]
-    results["tiers"] = {t: {**kept, **results["tiers"]}[t] for t in TIER_NAMES if t in kept or t in results["tiers"]}
+    merged = {**kept, **results["tiers"]}
+    results["tiers"] = {t: merged[t] for t in TIER_NAMES if t in merged}
     results["wall_s"] = time.time() - t0
     out.write_text(json.dumps(results, indent=1) + "\n")
     text = to_markdown(results)
