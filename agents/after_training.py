@@ -26,8 +26,8 @@ from . import protocol as P
 from .board_report import to_markdown
 from .contextual import ContextualConstant, contextual_path
 from .leaderboard import FULL, PRETRAINED_DIR, learned_groups, run_tier
-from .results_file import header
 from .reference_store import load_choice
+from .results_file import header
 from .stored_references import load_references
 
 __all__ = ["evaluate_run", "BOARD_BOOTSTRAP_REPS"]

@@ -385,6 +385,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
             raise SystemExit("--mpc-episodes must be >= 0")
         s = dataclasses.replace(s, mpc_episodes=a.mpc_episodes)
     out = Path(a.out) if a.out else default_out(a.smoke, bool(a.model), protocol_size=s == FULL)
+    out.parent.mkdir(parents=True, exist_ok=True)     # fail before the run, not after it
     t0 = time.time()
     groups = learned_groups(a.model, a.pretrained, Path(a.pretrained_dir))
     command = "python -m agents.leaderboard " + " ".join(argv if argv is not None else sys.argv[1:])
