@@ -28,7 +28,6 @@ from __future__ import annotations
 
 import argparse
 import json
-import os
 import shutil
 import sys
 import time
@@ -53,7 +52,7 @@ def build_parser() -> argparse.ArgumentParser:
     ap.add_argument("--n-envs", type=int, default=2, help="environments stepped together by the batched kernel")
     ap.add_argument("--seed", type=int, default=0)
     ap.add_argument("--threads", type=int, default=None,
-                    help="numba threads stepping the environments (default: one per env, at most the cores); "
+                    help="numba threads stepping the environments (default: one per env, at most numba's threads: the cores, or NUMBA_NUM_THREADS); "
                          "the results do not depend on it")
     ap.add_argument("--out", default="runs/ppo", help="output directory")
     ap.add_argument("--tier", choices=TIER_NAMES, default=DEFAULT_TIER,
@@ -88,12 +87,15 @@ def hyperparams(algo: str) -> dict:
 
 
 def make_env(n_envs: int, seed: int, episode_steps: int, tier: str, threads: int | None = None):
+    """``n_envs`` environments stepped by one numba kernel on ``threads`` threads (default: one
+    per env, at most numba's thread count - the cores, or ``NUMBA_NUM_THREADS`` if set)."""
+    import numba
     from stable_baselines3.common.vec_env import VecMonitor
 
     from bearing_gym.envs import BearingPreloadSB3VecEnv
     venv = BearingPreloadSB3VecEnv(num_envs=n_envs, tier=tier, episode_steps=episode_steps,
                                    max_episode_steps=episode_steps,
-                                   num_threads=threads or min(n_envs, os.cpu_count() or 1))
+                                   num_threads=threads or min(n_envs, numba.config.NUMBA_NUM_THREADS))
     venv.seed(seed)
     return VecMonitor(venv)
 

@@ -27,6 +27,7 @@ from .board_report import to_markdown
 from .contextual import ContextualConstant, contextual_path
 from .leaderboard import FULL, PRETRAINED_DIR, learned_groups, run_tier
 from .reference_store import load_choice
+from .results_file import header
 from .stored_references import load_references
 
 __all__ = ["evaluate_run", "BOARD_BOOTSTRAP_REPS"]
@@ -88,9 +89,8 @@ def evaluate_run(model_dir: str | Path, episodes: int, tier: str, episode_steps:
             raise
         print(f"note: {err}; computing the hindsight reference here (no MPC)", flush=True)
         result = run_tier(tier, dataclasses.replace(s, mpc_episodes=0), groups, processes=1, stored=None)
-    results = {"benchmark": "BearingPreload-v0", "mode": "after training (train.py)",
-               "command": f"python train.py ... --out {out}", "tiers": {tier: result},
-               "protocol": {"test_episodes": P.TEST_EPISODES, "step_budget_per_run": P.STEP_BUDGET_PER_RUN}}
+    results = {**header("after training (train.py)", f"python train.py ... --out {out}", s.bootstrap_reps, s.poi_reps),
+               "tiers": {tier: result}}
     (out / "leaderboard.json").write_text(json.dumps(results, indent=1) + "\n")
     text = to_markdown(results)
     note = (f"\nThe shipped rows are the leaderboard's policies (docs/results.md: "

@@ -35,7 +35,7 @@ Scores and statistics: :mod:`agents.scoring` (0 = the validation-chosen constant
 of MPC and hindsight on the episode - the hindsight alone where the MPC did not run - a
 denominator floor of one quasi-periodic interval's cost, IQM with stratified-bootstrap 95 %
 intervals and the probability of improvement over the validation constant, with rliable). It
-writes ``results.json`` (per tier and per policy: ``normalised_score_iqm``, ``ci_low``,
+writes ``results.json`` (:mod:`agents.results_file`; per tier and per policy: ``normalised_score_iqm``, ``ci_low``,
 ``ci_high``, ``n_seeds``, ``n_episodes`` and the raw metrics) and a markdown table beside it;
 a full run with ``--model`` writes ``docs/results.json`` and ``docs/results_table.md`` (the
 shipped policies alone, without ``--model``: ``runs/leaderboard_pretrained/``). Every departure from the
@@ -75,12 +75,12 @@ from .oracle import MapOracle
 from .policies import ConstantPreload
 from .reference_store import STORE_PATH, ValidationChoice, load_choice, save_choice
 from .references import choose_validation_constant, hindsight_reference, run_mpc
+from .results_file import default_out, header, kept_tiers, table_path, write
 from .stored_references import StoredReferences, load_references
 
 __all__ = ["Settings", "FULL", "SMOKE", "LearnedGroup", "learned_groups", "run_tier", "summarise",
            "to_markdown", "main"]
 
-ROOT = Path(__file__).resolve().parent.parent
 PRETRAINED_DIR = Path(__file__).with_name("pretrained")
 
 
@@ -344,44 +344,6 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
             "policies": rows, "wall_s": time.time() - t0}
 
 
-def _protocol_summary() -> dict[str, Any]:
-    return {"test_episodes": P.TEST_EPISODES, "mpc_episodes": P.MPC_EPISODES,
-            "validation_constant_episodes": P.VALIDATION_CONSTANT_EPISODES,
-            "contextual_fit_episodes": P.CONTEXTUAL_FIT_EPISODES, "headline_algorithm": P.HEADLINE_ALGORITHM,
-            "training_seeds": {a: list(P.training_seeds(a)) for a in P.ALGORITHMS},
-            "step_budget_per_run": P.STEP_BUDGET_PER_RUN,
-            "step_budget_chosen_from_throughput": P.STEP_BUDGET_CHOSEN_FROM_THROUGHPUT,
-            "denominator_floor": scoring.DENOMINATOR_FLOOR}
-
-
-def default_out(smoke: bool, models_given: bool, protocol_size: bool = True) -> Path:
-    """docs/results.json is the protocol's leaderboard: only a run of ``--model`` runs at the
-    protocol's size (the settings equal ``FULL``) writes it by default; a smoke run goes
-    to runs/leaderboard_smoke/, a board of the shipped policies alone to
-    runs/leaderboard_pretrained/, a reduced run to runs/leaderboard_reduced/."""
-    if smoke:
-        return ROOT / "runs" / "leaderboard_smoke" / "results.json"
-    if not models_given:
-        return ROOT / "runs" / "leaderboard_pretrained" / "results.json"
-    if not protocol_size:
-        return ROOT / "runs" / "leaderboard_reduced" / "results.json"
-    return ROOT / "docs" / "results.json"
-
-
-def kept_tiers(previous: dict[str, Any], results: dict[str, Any], tiers: list[str]) -> dict[str, Any]:
-    """``--keep-other-tiers``: the tiers of an earlier results.json that this run does not
-    recompute, each with the command that made it. Refused (ValueError naming what differs) if
-    the earlier file was made under another protocol, mode or statistics. It does not check which
-    policies a kept tier ran or whether it kept to the protocol: each kept tier carries its own
-    command, ``model_dirs`` and ``protocol_deviations``, and the table prints its command."""
-    for key in ("benchmark", "mode", "protocol", "statistics"):
-        if json.loads(json.dumps(previous.get(key))) != json.loads(json.dumps(results[key])):
-            raise ValueError(f"the earlier results.json differs in {key!r}: its tiers cannot stand beside this run's; "
-                             "run every tier again (without --keep-other-tiers)")
-    return {t: {**v, "command": v.get("command", previous.get("command"))}
-            for t, v in previous["tiers"].items() if t not in tiers}
-
-
 def build_parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(description="The leaderboard: learned policies and references as normalised scores.")
     ap.add_argument("--smoke", action="store_true", help="the pipeline at a tiny budget (2 episodes); for CI")
@@ -423,17 +385,11 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
             raise SystemExit("--mpc-episodes must be >= 0")
         s = dataclasses.replace(s, mpc_episodes=a.mpc_episodes)
     out = Path(a.out) if a.out else default_out(a.smoke, bool(a.model), protocol_size=s == FULL)
-    md = out.with_name("results_table.md") if out.name == "results.json" else out.with_suffix(".md")
-    out.parent.mkdir(parents=True, exist_ok=True)
+    out.parent.mkdir(parents=True, exist_ok=True)     # fail before the run, not after it
     t0 = time.time()
     groups = learned_groups(a.model, a.pretrained, Path(a.pretrained_dir))
     command = "python -m agents.leaderboard " + " ".join(argv if argv is not None else sys.argv[1:])
-    results: dict[str, Any] = {"benchmark": "BearingPreload-v0", "mode": "smoke" if s.smoke else "full",
-                               "command": command.strip(), "protocol": _protocol_summary(),
-                               "statistics": {"bootstrap_reps": s.bootstrap_reps, "poi_reps": s.poi_reps,
-                                              "iqm": "rliable.metrics.aggregate_iqm",
-                                              "intervals": "rliable.library.get_interval_estimates, 95 %, percentile"},
-                               "tiers": {}}
+    results = header("smoke" if s.smoke else "full", command, s.bootstrap_reps, s.poi_reps)
     kept: dict[str, Any] = {}
     if a.keep_other_tiers and out.exists():
         try:
@@ -449,14 +405,10 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
                                           processes=1 if s.smoke else a.processes, stored=stored,
                                           save_references_to=Path(a.references_dir) if protocol_size else None)
         results["tiers"][tier]["command"] = results["command"]
-    merged = {**kept, **results["tiers"]}
-    results["tiers"] = {t: merged[t] for t in TIER_NAMES if t in merged}
     results["wall_s"] = time.time() - t0
-    out.write_text(json.dumps(results, indent=1) + "\n")
-    text = to_markdown(results)
-    md.write_text(text)
+    text = write(results, out, kept)
     print(text)
-    print(f"wrote {out} and {md} ({results['wall_s'] / 60:.1f} min)")
+    print(f"wrote {out} and {table_path(out)} ({results['wall_s'] / 60:.1f} min)")
     return results
 
 

@@ -13,9 +13,13 @@ from __future__ import annotations
 import json
 from dataclasses import asdict, dataclass
 from pathlib import Path
+from typing import TYPE_CHECKING
 
 from .protocol import (VALIDATION, VALIDATION_CONSTANT_EPISODES, VALIDATION_GRID_STEP_N, episodes_for_tier,
                        preload_grid, range_of)
+
+if TYPE_CHECKING:
+    import numpy as np
 
 __all__ = ["STORE_PATH", "ValidationChoice", "load_choice", "save_choice", "rebuild_command", "validation_episodes"]
 

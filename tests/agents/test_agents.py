@@ -189,6 +189,20 @@ def test_smoke_training_saves_reloads_and_evaluates(algo, tmp_path, capsys):
     assert (out / "model.zip").read_bytes() == (out / "last_model.zip").read_bytes()
 
 
+def test_train_env_defaults_to_at_most_numbas_threads(monkeypatch):
+    """With NUMBA_NUM_THREADS below the env count (a user limiting threads), train.py's default
+    thread count follows numba's, not the cores: it builds the envs instead of refusing."""
+    import numba
+    sys.path.insert(0, str(ROOT))
+    import train
+    monkeypatch.setattr(numba.config, "NUMBA_NUM_THREADS", 1)
+    env = train.make_env(2, seed=0, episode_steps=4, tier="transient")
+    try:
+        assert env.num_envs == 2 and env.venv.venv.num_threads == 1
+    finally:
+        env.close()
+
+
 def test_validation_scores_every_checkpoint_on_the_same_scenarios(tmp_path, capsys):
     """The same policy evaluated twice by ValidationCallback gets the same returns (fixed
     validation scenarios); SB3's plain EvalCallback draws new scenarios each time."""

@@ -148,7 +148,7 @@ def test_the_after_training_board_on_a_deterministic_tier_keeps_the_stored_refer
 
 
 def test_only_a_run_of_trained_models_overwrites_the_committed_leaderboard():
-    from agents.leaderboard import ROOT, default_out
+    from agents.results_file import ROOT, default_out
     assert default_out(smoke=False, models_given=True) == ROOT / "docs" / "results.json"
     for smoke, models in ((False, False), (True, True), (True, False)):
         assert default_out(smoke, models).parent.parent == ROOT / "runs"
@@ -156,7 +156,7 @@ def test_only_a_run_of_trained_models_overwrites_the_committed_leaderboard():
 
 
 def test_keep_other_tiers_keeps_only_what_is_not_recomputed_and_only_under_one_protocol():
-    from agents.leaderboard import kept_tiers
+    from agents.results_file import kept_tiers
     head = {"benchmark": "BearingPreload-v0", "mode": "full", "protocol": {"test": [300000, 309999]},
             "statistics": {"bootstrap_reps": 50000}}
     previous = {**head, "command": "python -m agents.leaderboard --tier transient paper",
