@@ -88,10 +88,18 @@ def breakdown(results: dict[str, Any], tier: str, row: str, data_dir: Path = DAT
         feats["hindsight best constant: mean applied preload (N)"] = np.asarray(refs.hindsight.mean_preload)
     except FileNotFoundError:
         pass
-    table = []
+    merged: list[tuple[list[str], np.ndarray]] = []   # features equal on every episode share a row
     for f, x in feats.items():
+        same = next((names for names, y in merged if np.array_equal(x, y)), None)
+        if same is not None:
+            same.append(f)
+        else:
+            merged.append(([f], np.asarray(x)))
+    table = []
+    for names, x in merged:
         if np.ptp(x) == 0:
             continue
+        f = " = ".join(names)
         rho, p = spearmanr(x, own)
         order = np.argsort(x, kind="stable")
         thirds = np.array_split(order, 3)

@@ -26,7 +26,7 @@ def test_features_are_the_scenarios_the_env_draws():
     env.close()
 
 
-def _results(n: int, learned: np.ndarray, mpc_m: int = 2) -> dict:
+def _results(n: int, learned: np.ndarray, mpc_m: int = 2, tier: str = "transient") -> dict:
     r0 = -np.linspace(100.0, 50.0, n)
     hindsight = r0 + 10.0
     mpc = hindsight[:mpc_m] + 5.0
@@ -35,7 +35,7 @@ def _results(n: int, learned: np.ndarray, mpc_m: int = 2) -> dict:
             f"MPC (true simulator, first {mpc_m} episodes)": {"episode_returns": [mpc.tolist()]},
             "contextual constant": {"episode_returns": [(r0 + 5.0).tolist()]},
             "SAC (2 seeds)": {"episode_returns": learned.tolist()}}
-    return {"tiers": {"transient": {"policies": rows, "mpc_episodes": mpc_m, "episode_steps": 150,
+    return {"tiers": {tier: {"policies": rows, "mpc_episodes": mpc_m, "episode_steps": 150,
                                     "seeds": [TEST.start, TEST.start + n - 1]}}}
 
 
@@ -67,3 +67,16 @@ def test_a_planted_dependence_on_a_feature_is_ranked_first(tmp_path):
 def test_an_ambiguous_row_name_is_refused():
     with pytest.raises(KeyError, match="several rows"):
         sb.breakdown(_results(4, np.zeros((1, 4))), "transient", "")
+
+
+def test_features_equal_on_every_episode_share_one_row(tmp_path):
+    """On stationary the speed does not change, so start, end, lowest and highest speed are one
+    feature (one row, named by all four); on transient they differ and keep their rows."""
+    n = 12
+    learned = np.array([-np.linspace(100.0, 50.0, n) + np.arange(n)])
+    speeds = ["start speed (rpm)", "end speed (rpm)", "lowest speed (rpm)", "highest speed (rpm)"]
+    st = sb.breakdown(_results(n, learned, mpc_m=0, tier="stationary"), "stationary", "SAC", data_dir=tmp_path)
+    names = [r["feature"] for r in st["features"]]
+    assert " = ".join(speeds) in names and not set(speeds) & set(names)
+    tr = sb.breakdown(_results(n, learned, mpc_m=0), "transient", "SAC", data_dir=tmp_path)
+    assert {"start speed (rpm)", "end speed (rpm)"} <= {r["feature"] for r in tr["features"]}
