@@ -109,6 +109,14 @@ class Settings:
                                    mpc_episodes=P.episodes_for_tier(tier, self.mpc_episodes),
                                    validation_episodes=P.episodes_for_tier(tier, self.validation_episodes))
 
+    def protocol_sized(self, tier: str) -> bool:
+        """Whether these settings run ``tier`` at the protocol's size: not a smoke run, and the
+        protocol's test and MPC episodes on that tier (:meth:`for_tier`: on a deterministic tier
+        any ``--episodes`` is the protocol's one episode). Such a run may write docs/results.json
+        and the tier's stored test references by default."""
+        mine, protocol = self.for_tier(tier), FULL.for_tier(tier)
+        return not self.smoke and (mine.episodes, mine.mpc_episodes) == (protocol.episodes, protocol.mpc_episodes)
+
     def mpc_settings(self) -> dict[str, Any]:
         """The MPC reference's settings as stored with its rows."""
         return {"horizon": self.mpc.horizon, "replan_every": self.mpc.replan_every,
@@ -367,7 +375,8 @@ def build_parser() -> argparse.ArgumentParser:
     ap.add_argument("--out", help="results.json path (default: docs/results.json for a full run with --model; "
                                   "runs/leaderboard_smoke/results.json with --smoke; "
                                   "runs/leaderboard_pretrained/results.json for the shipped policies alone; "
-                                  "runs/leaderboard_reduced/results.json with --episodes or --mpc-episodes); "
+                                  "runs/leaderboard_reduced/results.json when --episodes or --mpc-episodes leave the "
+                                  "protocol's size on a tier); "
                                   "the markdown table goes beside it")
     return ap
 
@@ -384,7 +393,8 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         if a.mpc_episodes < 0:
             raise SystemExit("--mpc-episodes must be >= 0")
         s = dataclasses.replace(s, mpc_episodes=a.mpc_episodes)
-    out = Path(a.out) if a.out else default_out(a.smoke, bool(a.model), protocol_size=s == FULL)
+    out = Path(a.out) if a.out else default_out(a.smoke, bool(a.model),
+                                                    protocol_size=all(s.protocol_sized(t) for t in a.tier))
     out.parent.mkdir(parents=True, exist_ok=True)     # fail before the run, not after it
     t0 = time.time()
     groups = learned_groups(a.model, a.pretrained, Path(a.pretrained_dir))
@@ -397,13 +407,10 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
         except ValueError as e:
             raise SystemExit(f"--keep-other-tiers: {e}") from None
     for tier in a.tier:
-        st = s.for_tier(tier)
-        protocol_s = FULL.for_tier(tier)
-        protocol_size = not s.smoke and (st.episodes, st.mpc_episodes) == (protocol_s.episodes, protocol_s.mpc_episodes)
         stored = load_references(tier, Path(a.references_dir)) if a.stored_references else None
         results["tiers"][tier] = run_tier(tier, s, groups, Path(a.store), Path(a.contextual_dir), out.parent,
                                           processes=1 if s.smoke else a.processes, stored=stored,
-                                          save_references_to=Path(a.references_dir) if protocol_size else None)
+                                          save_references_to=Path(a.references_dir) if s.protocol_sized(tier) else None)
         results["tiers"][tier]["command"] = results["command"]
     results["wall_s"] = time.time() - t0
     text = write(results, out, kept)

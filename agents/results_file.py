@@ -46,7 +46,7 @@ def header(mode: str, command: str, bootstrap_reps: int, poi_reps: int) -> dict[
 
 def default_out(smoke: bool, models_given: bool, protocol_size: bool = True) -> Path:
     """docs/results.json is the protocol's leaderboard: only a run of ``--model`` runs at the
-    protocol's size (the settings equal ``FULL``) writes it by default; a smoke run goes
+    protocol's size on every tier it runs (``Settings.protocol_sized``) writes it by default; a smoke run goes
     to runs/leaderboard_smoke/, a board of the shipped policies alone to
     runs/leaderboard_pretrained/, a reduced run to runs/leaderboard_reduced/."""
     if smoke:

@@ -155,6 +155,20 @@ def test_only_a_run_of_trained_models_overwrites_the_committed_leaderboard():
     assert default_out(False, True, protocol_size=False).parent.parent == ROOT / "runs"
 
 
+def test_protocol_sized_is_decided_per_tier_once():
+    """A run is protocol-sized on a tier when it runs the protocol's test and MPC episodes
+    there: on the deterministic paper tier any --episodes is its one episode; on a random tier
+    fewer (or more) episodes are not; a smoke run never is."""
+    import dataclasses
+    from agents import protocol as P
+    from agents.leaderboard import FULL, SMOKE
+    fewer = dataclasses.replace(FULL, episodes=P.TEST_EPISODES // 2)
+    assert all(FULL.protocol_sized(t) for t in ("paper", "transient", "stationary", "field"))
+    assert fewer.protocol_sized("paper") and not fewer.protocol_sized("transient")
+    assert not dataclasses.replace(FULL, mpc_episodes=P.MPC_EPISODES - 1).protocol_sized("field")
+    assert not any(SMOKE.protocol_sized(t) for t in ("paper", "transient"))
+
+
 def test_keep_other_tiers_keeps_only_what_is_not_recomputed_and_only_under_one_protocol():
     from agents.results_file import kept_tiers
     head = {"benchmark": "BearingPreload-v0", "mode": "full", "protocol": {"test": [300000, 309999]},
