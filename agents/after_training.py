@@ -15,7 +15,6 @@ of :func:`agents.evaluate.evaluate` instead.
 from __future__ import annotations
 
 import dataclasses
-import json
 from pathlib import Path
 from typing import Any
 
@@ -23,11 +22,10 @@ from bearing_gym.benchmark import EPISODE_STEPS
 from bearing_gym.envs.tiers import tier_is_deterministic
 
 from . import protocol as P
-from .board_report import to_markdown
 from .contextual import ContextualConstant, contextual_path
 from .leaderboard import FULL, PRETRAINED_DIR, learned_groups, run_tier
 from .reference_store import load_choice
-from .results_file import header
+from .results_file import header, table_path, write
 from .stored_references import load_references
 
 __all__ = ["evaluate_run", "BOARD_BOOTSTRAP_REPS"]
@@ -91,11 +89,12 @@ def evaluate_run(model_dir: str | Path, episodes: int, tier: str, episode_steps:
         result = run_tier(tier, dataclasses.replace(s, mpc_episodes=0), groups, processes=1, stored=None)
     results = {**header("after training (train.py)", f"python train.py ... --out {out}", s.bootstrap_reps, s.poi_reps),
                "tiers": {tier: result}}
-    (out / "leaderboard.json").write_text(json.dumps(results, indent=1) + "\n")
-    text = to_markdown(results)
+    board = out / "leaderboard.json"
+    text = write(results, board)
     note = (f"\nThe shipped rows are the leaderboard's policies (docs/results.md: "
             f"{P.episodes_for_tier(tier, P.TEST_EPISODES)} test episodes, every training seed); this run's row is a "
             f"short demo on {episodes} of those episodes.\n")
-    (out / "leaderboard.md").write_text(text + note)
+    with table_path(board).open("a") as f:      # leaderboard.md, beside it
+        f.write(note)
     print(text + note, flush=True)
     return result
