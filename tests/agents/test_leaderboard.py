@@ -165,7 +165,10 @@ def test_protocol_sized_is_decided_per_tier_once():
     fewer = dataclasses.replace(FULL, episodes=P.TEST_EPISODES // 2)
     assert all(FULL.protocol_sized(t) for t in ("paper", "transient", "stationary", "field"))
     assert fewer.protocol_sized("paper") and not fewer.protocol_sized("transient")
+    more = dataclasses.replace(FULL, episodes=2 * P.TEST_EPISODES)
+    assert more.protocol_sized("paper") and not more.protocol_sized("stationary")
     assert not dataclasses.replace(FULL, mpc_episodes=P.MPC_EPISODES - 1).protocol_sized("field")
+    assert not dataclasses.replace(FULL, mpc_episodes=0).protocol_sized("paper")     # the paper tier's MPC skipped
     assert not any(SMOKE.protocol_sized(t) for t in ("paper", "transient"))
 
 
