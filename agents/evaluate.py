@@ -1,6 +1,7 @@
 """Evaluate preload controllers side by side on the same held-out scenarios.
 
     python -m agents.evaluate --model DIR [DIR ...] [--episodes 20] [--tier transient] [--seed 300000]
+    python -m agents.evaluate --pretrained [--episodes 20]      # the shipped policies of agents/pretrained/
 
 Runs the trained policy in each DIR (``model.zip`` + ``vec_normalize.pkl`` from ``train.py``;
 several DIRs put PPO and SAC side by side) and every scripted baseline on the same seeds (env i
@@ -43,6 +44,19 @@ TEST_SEED = TEST.start      # first held-out test seed (agents.protocol keeps th
 #: The algorithms load_trained knows: train.py's --algo -> (module, class).
 ALGORITHM_CLASSES = {"ppo": ("stable_baselines3", "PPO"), "sac": ("stable_baselines3", "SAC"),
                      "ppo_lstm": ("sb3_contrib", "RecurrentPPO")}
+#: The shipped policies: ``<algo>/`` directories of model.zip + vec_normalize.pkl (+ config.json).
+PRETRAINED_DIR = Path(__file__).with_name("pretrained")
+
+
+def shipped_dirs(pretrained_dir: Path = PRETRAINED_DIR) -> list[Path]:
+    """The shipped policies' directories (``pretrained_dir/<algo>/`` holding a model.zip), sorted;
+    FileNotFoundError saying what to do if there is none."""
+    found = sorted(p for p in pretrained_dir.glob("*") if (p / "model.zip").exists()) if pretrained_dir.exists() else []
+    if not found:
+        raise FileNotFoundError(f"--pretrained: no shipped policy in {pretrained_dir}/<algo>/ (each needs model.zip "
+                                "and vec_normalize.pkl, as train.py writes them); copy the best run of each "
+                                "algorithm there, or leave out --pretrained")
+    return found
 
 
 class SB3Policy(Policy):
@@ -319,6 +333,10 @@ def build_parser() -> argparse.ArgumentParser:
     ap = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     ap.add_argument("--model", nargs="+", help="directories written by train.py, evaluated side by side "
                     "(omit to evaluate the baselines only)")
+    ap.add_argument("--pretrained", action="store_true",
+                    help="add the shipped policies of agents/pretrained/<algo>/ (written to runs/evaluation_pretrained/ "
+                         "unless --out or --model says where); their normalised scores against the stored references: "
+                         "python -m agents.leaderboard --pretrained --stored-references")
     ap.add_argument("--episodes", type=int, default=20)
     ap.add_argument("--episode-steps", type=int, default=EPISODE_STEPS,
                     help="control intervals per episode (default: the benchmark's horizon)")
@@ -333,7 +351,13 @@ def main(argv: list[str] | None = None) -> None:
     args = ap.parse_args(argv)
     if args.episodes < 2:
         ap.error("--episodes must be >= 2 (a confidence interval needs two episodes)")
-    evaluate(args.model, args.episodes, args.seed, args.episode_steps, args.out, tier=args.tier)
+    models: list[str | Path] = list(args.model or [])
+    out = args.out
+    if args.pretrained:
+        models += shipped_dirs()
+        if out is None and not args.model:      # never write reports into the shipped policies' directories
+            out = Path(__file__).resolve().parent.parent / "runs" / "evaluation_pretrained"
+    evaluate(models or None, args.episodes, args.seed, args.episode_steps, out, tier=args.tier)
 
 
 if __name__ == "__main__":

@@ -69,7 +69,7 @@ from . import protocol as P
 from . import scoring
 from .contextual import DATA_DIR, ContextualConstant, contextual_path, fit_contextual
 from .board_report import summarise, to_markdown
-from .evaluate import SB3Policy, load_trained, run_policies, sweep_row
+from .evaluate import PRETRAINED_DIR, SB3Policy, load_trained, run_policies, shipped_dirs, sweep_row
 from .mpc import RecedingHorizonMPC
 from .oracle import MapOracle
 from .policies import ConstantPreload
@@ -81,7 +81,6 @@ from .stored_references import StoredReferences, load_references
 __all__ = ["Settings", "FULL", "SMOKE", "LearnedGroup", "learned_groups", "run_tier", "summarise",
            "to_markdown", "main"]
 
-PRETRAINED_DIR = Path(__file__).with_name("pretrained")
 
 
 @dataclass(frozen=True)
@@ -186,12 +185,7 @@ def learned_groups(model_dirs: list[str | Path], pretrained: bool,
     for d in model_dirs:
         add(Path(d), None, False)
     if pretrained:
-        shipped = sorted(p for p in pretrained_dir.glob("*") if (p / "model.zip").exists()) if pretrained_dir.exists() else []
-        if not shipped:
-            raise FileNotFoundError(f"--pretrained: no shipped policy in {pretrained_dir}/<algo>/ (each needs model.zip "
-                                    "and vec_normalize.pkl, as train.py writes them); copy the best run of each "
-                                    "algorithm there, or leave out --pretrained")
-        for d in shipped:
+        for d in shipped_dirs(pretrained_dir):
             add(d, d.name, True)
     return list(groups.values())
 

@@ -396,3 +396,25 @@ def test_eval_result_concat_joins_in_order_and_drops_an_array_one_part_lacks():
     assert EvalResult.concat([part(0, 2, True), part(0, 1, True)]).terminated is None
     with pytest.raises(ValueError, match="different policies"):
         EvalResult.concat([part(0, 2, True), EvalResult("q", np.zeros(1), {}, np.zeros(1), np.zeros(1))])
+
+
+def test_evaluate_pretrained_runs_every_shipped_policy_and_writes_outside_them(tmp_path, monkeypatch):
+    """`python -m agents.evaluate --pretrained` puts each shipped policy (agents/pretrained/<algo>/)
+    beside the baselines; without --out or --model the reports go to runs/, never into the
+    shipped directories; with no shipped policy it says what to do."""
+    from agents import evaluate as ev
+    shipped = ev.shipped_dirs()
+    assert {d.name for d in shipped} >= {"ppo", "sac"}
+    calls = {}
+    monkeypatch.setattr(ev, "evaluate", lambda models, *a, **k: calls.update(models=models, out=a[3]))
+    ev.main(["--pretrained", "--episodes", "2"])
+    assert calls["models"] == shipped and Path(calls["out"]).parts[-2:] == ("runs", "evaluation_pretrained")
+    ev.main(["--pretrained", "--model", str(tmp_path), "--episodes", "2"])
+    assert calls["models"] == [str(tmp_path), *shipped] and calls["out"] is None   # the first model directory
+    monkeypatch.undo()
+    ev.main(["--pretrained", "--episodes", "2", "--episode-steps", "2", "--out", str(tmp_path / "out")])
+    with (tmp_path / "out" / "evaluation.csv").open() as fh:
+        algos = [r["policy"].split(" (")[0].lower() for r in csv.DictReader(fh) if "(trained" in r["policy"]]
+    assert sorted(algos) == sorted(d.name for d in shipped)
+    with pytest.raises(FileNotFoundError, match="no shipped policy"):
+        ev.shipped_dirs(tmp_path / "nothing")
