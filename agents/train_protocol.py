@@ -36,6 +36,7 @@ import argparse
 import json
 import os
 import shutil
+import subprocess
 import sys
 import time
 from pathlib import Path
@@ -152,15 +153,13 @@ def train_run(algo: str, seed: int, budget: int = P.STEP_BUDGET_PER_RUN, trained
     out = (work_dir or WORK_DIR) / f"{algo}_s{seed}"
     lock = _take_lock(out, f"{algo} seed {seed}")
     try:
-        if str(ROOT) not in sys.path:
-            sys.path.insert(0, str(ROOT))
-        import train
         args = train_args(algo, seed, out, budget, threads)
         if (out / "checkpoints").exists():
             args.append("--resume")
         t0 = time.time()
         print(f"protocol run: {algo} seed {seed}, {budget:,} steps -> {out}", flush=True)
-        rc = train.main(args)
+        # train.py as its own process: the library does not import the script above it
+        rc = subprocess.run([sys.executable, str(ROOT / "train.py"), *args], cwd=ROOT).returncode
     finally:
         lock.unlink(missing_ok=True)
     if rc:
