@@ -23,7 +23,8 @@ from bearing_gym.envs.tiers import tier_is_deterministic
 
 from . import protocol as P
 from .contextual import ContextualConstant, contextual_path
-from .leaderboard import FULL, PRETRAINED_DIR, learned_groups, run_tier
+from .evaluate import PRETRAINED_DIR
+from .leaderboard import FULL, learned_groups, run_tier
 from .reference_store import load_choice
 from .results_file import header, table_path, write
 from .stored_references import load_references

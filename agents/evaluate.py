@@ -342,7 +342,8 @@ def build_parser() -> argparse.ArgumentParser:
                     help="control intervals per episode (default: the benchmark's horizon)")
     ap.add_argument("--seed", type=int, default=TEST_SEED)
     ap.add_argument("--tier", choices=TIER_NAMES, default=DEFAULT_TIER)
-    ap.add_argument("--out", help="output directory (default: the first model directory)")
+    ap.add_argument("--out", help="output directory (default: the first model directory; with --pretrained alone "
+                                  "runs/evaluation_pretrained/; with neither, evaluation/)")
     return ap
 
 

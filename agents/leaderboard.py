@@ -82,7 +82,6 @@ __all__ = ["Settings", "FULL", "SMOKE", "LearnedGroup", "learned_groups", "run_t
            "to_markdown", "main"]
 
 
-
 @dataclass(frozen=True)
 class Settings:
     """How large a leaderboard run is. FULL is the protocol; SMOKE checks the pipeline."""

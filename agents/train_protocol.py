@@ -17,7 +17,7 @@ checkpoint). Its small files are then collected into ``agents/trained/A/seed_S/`
 (``python -m agents.leaderboard --model agents/trained/*/seed_*``) and the learning curves
 (:mod:`agents.learning_curves`) can be rebuilt on another machine. A run is done when its
 collected ``config.json`` records the whole budget. A run in progress holds
-``runs/protocol/A_sS/.running`` (its process id), so a second ``--next`` takes the run after it;
+``runs/protocol/A_sS/.running`` (the process id of its train.py), so a second ``--next`` takes the run after it;
 ``--threads 1`` gives a run one numba thread (train.py ``--threads``), for running runs side by
 side on a machine with more cores than a run uses; the results do not depend on the thread
 count (the environments are stepped independently). On the 2-core machine it does not pay: two
@@ -44,7 +44,7 @@ from pathlib import Path
 from bearing_gym.benchmark import DEFAULT_TIER
 
 from . import protocol as P
-from .leaderboard import PRETRAINED_DIR
+from .evaluate import PRETRAINED_DIR
 
 __all__ = ["RUNS", "run_dir", "collected_dir", "is_done", "is_running", "best_checkpoint", "run_summary", "train_run", "collect", "ship", "main"]
 
@@ -158,8 +158,13 @@ def train_run(algo: str, seed: int, budget: int = P.STEP_BUDGET_PER_RUN, trained
             args.append("--resume")
         t0 = time.time()
         print(f"protocol run: {algo} seed {seed}, {budget:,} steps -> {out}", flush=True)
-        # train.py as its own process: the library does not import the script above it
-        rc = subprocess.run([sys.executable, str(ROOT / "train.py"), *args], cwd=ROOT).returncode
+        # train.py as its own process (the library does not import the script above it); the lock
+        # names that process, so a run whose launcher was killed still counts as running
+        proc = subprocess.Popen([sys.executable, str(ROOT / "train.py"), *args], cwd=ROOT)
+        tmp = lock.with_name(".running.tmp")
+        tmp.write_text(str(proc.pid))
+        os.replace(tmp, lock)
+        rc = proc.wait()
     finally:
         lock.unlink(missing_ok=True)
     if rc:

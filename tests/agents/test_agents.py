@@ -406,7 +406,7 @@ def test_evaluate_pretrained_runs_every_shipped_policy_and_writes_outside_them(t
     shipped = ev.shipped_dirs()
     assert {d.name for d in shipped} >= {"ppo", "sac"}
     calls = {}
-    monkeypatch.setattr(ev, "evaluate", lambda models, *a, **k: calls.update(models=models, out=a[3]))
+    monkeypatch.setattr(ev, "evaluate", lambda models, episodes, seed, steps, out, **k: calls.update(models=models, out=out))
     ev.main(["--pretrained", "--episodes", "2"])
     assert calls["models"] == shipped and Path(calls["out"]).parts[-2:] == ("runs", "evaluation_pretrained")
     ev.main(["--pretrained", "--model", str(tmp_path), "--episodes", "2"])

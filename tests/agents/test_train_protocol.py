@@ -90,3 +90,26 @@ def test_list_summarises_a_done_run_and_nothing_of_one_not_done(tmp_path):
     T.collect(src, T.collected_dir("sac", 0, tmp_path))
     assert T.run_summary("sac", 1000, tmp_path) == ""
     assert "best checkpoint 100,000 steps, validation return -123.0" in T.run_summary("sac", 0, tmp_path)
+
+
+def test_the_lock_names_the_train_py_process_while_it_runs(tmp_path, monkeypatch):
+    """train_run starts train.py as a process of its own; while it runs, the run's .running file
+    names that process (so killing the launcher leaves the run marked as running), and a failing
+    train.py is reported with its exit code."""
+    root = tmp_path / "root"
+    root.mkdir()
+    (root / "train.py").write_text(
+        "import os, sys, time, pathlib\n"
+        "out = pathlib.Path(sys.argv[sys.argv.index('--out') + 1])\n"
+        "for _ in range(500):\n"
+        "    if (out / '.running').read_text() == str(os.getpid()):\n"
+        "        (out / 'lock_named_me').write_text('yes')\n"
+        "        break\n"
+        "    time.sleep(0.01)\n"
+        "sys.exit(3)\n")
+    monkeypatch.setattr(T, "ROOT", root)
+    with pytest.raises(SystemExit, match=r"train.py failed \(3\)"):
+        T.train_run("sac", 1000, budget=10, trained_dir=tmp_path / "t", work_dir=tmp_path / "w")
+    run = tmp_path / "w" / "sac_s1000"
+    assert (run / "lock_named_me").read_text() == "yes"
+    assert not (run / ".running").exists()         # released when train.py ended
