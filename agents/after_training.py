@@ -23,7 +23,7 @@ from bearing_gym.envs.tiers import tier_is_deterministic
 
 from . import protocol as P
 from .contextual import ContextualConstant, contextual_path
-from .evaluate import PRETRAINED_DIR
+from .evaluate import PRETRAINED_DIR, shipped_dirs
 from .leaderboard import FULL, learned_groups, run_tier
 from .reference_store import load_choice
 from .results_file import header, table_path, write
@@ -73,7 +73,7 @@ def evaluate_run(model_dir: str | Path, episodes: int, tier: str, episode_steps:
     s = dataclasses.replace(FULL, episodes=episodes, episode_steps=episode_steps,
                             mpc_episodes=min(stored.mpc_episodes, episodes) if stored else 0,
                             bootstrap_reps=BOARD_BOOTSTRAP_REPS, poi_reps=max(200, BOARD_BOOTSTRAP_REPS // 10))
-    shipped = pretrained_dir.exists() and any((d / "model.zip").exists() for d in pretrained_dir.glob("*"))
+    shipped = bool(shipped_dirs(pretrained_dir, required=False))
     groups = learned_groups([out], pretrained=shipped, pretrained_dir=pretrained_dir)
     fresh = groups[0]
     steps = fresh.timesteps[0]

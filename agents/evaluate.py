@@ -38,6 +38,7 @@ from .oracle import MapOracle
 from .policies import ConstantPreload, FeedbackRule, Policy, SpeedScheduledPreload
 from .protocol import HINDSIGHT_GRID_STEP_N, TEST, preload_grid
 from .reference_store import STORE_PATH, ValidationChoice, load_choice, rebuild_command
+from .results_file import ROOT
 from .stability_table import StabilityTable
 
 TEST_SEED = TEST.start      # first held-out test seed (agents.protocol keeps the ranges apart)
@@ -48,11 +49,11 @@ ALGORITHM_CLASSES = {"ppo": ("stable_baselines3", "PPO"), "sac": ("stable_baseli
 PRETRAINED_DIR = Path(__file__).with_name("pretrained")
 
 
-def shipped_dirs(pretrained_dir: Path = PRETRAINED_DIR) -> list[Path]:
+def shipped_dirs(pretrained_dir: Path = PRETRAINED_DIR, required: bool = True) -> list[Path]:
     """The shipped policies' directories (``pretrained_dir/<algo>/`` holding a model.zip), sorted;
-    FileNotFoundError saying what to do if there is none."""
+    if there is none: FileNotFoundError saying what to do, or [] when not ``required``."""
     found = sorted(p for p in pretrained_dir.glob("*") if (p / "model.zip").exists()) if pretrained_dir.exists() else []
-    if not found:
+    if not found and required:
         raise FileNotFoundError(f"--pretrained: no shipped policy in {pretrained_dir}/<algo>/ (each needs model.zip "
                                 "and vec_normalize.pkl, as train.py writes them); copy the best run of each "
                                 "algorithm there, or leave out --pretrained")
@@ -357,7 +358,7 @@ def main(argv: list[str] | None = None) -> None:
     if args.pretrained:
         models += shipped_dirs()
         if out is None and not args.model:      # never write reports into the shipped policies' directories
-            out = Path(__file__).resolve().parent.parent / "runs" / "evaluation_pretrained"
+            out = ROOT / "runs" / "evaluation_pretrained"
     evaluate(models or None, args.episodes, args.seed, args.episode_steps, out, tier=args.tier)
 
 

@@ -418,3 +418,4 @@ def test_evaluate_pretrained_runs_every_shipped_policy_and_writes_outside_them(t
     assert sorted(algos) == sorted(d.name for d in shipped)
     with pytest.raises(FileNotFoundError, match="no shipped policy"):
         ev.shipped_dirs(tmp_path / "nothing")
+    assert ev.shipped_dirs(tmp_path / "nothing", required=False) == []
