@@ -24,7 +24,7 @@ import dataclasses
 import json
 import time
 from pathlib import Path
-from typing import Any
+from typing import Any, Callable
 
 import numpy as np
 
@@ -78,10 +78,22 @@ class SB3Policy(Policy):
         return np.clip(act, -1.0, 1.0), state
 
 
-def load_trained(model_dir: str | Path, algo: str | None = None) -> SB3Policy:
+def load_trained(model_dir: str | Path, algo: str | None = None, portable: bool = False) -> Policy:
     """The SB3 model in ``model_dir`` (``model.zip``, with ``vec_normalize.pkl`` if there) behind
     the scripted-policy interface. The algorithm is ``algo`` or, if None, ``config.json``'s
-    (train.py writes it): one of ALGORITHM_CLASSES."""
+    (train.py writes it): one of ALGORITHM_CLASSES.
+
+    ``portable=True``: the same deterministic policy evaluated in float64 without torch
+    (:class:`agents.portable_policy.PortablePolicy`; from ``portable_policy.npz`` if exported,
+    else from the model's weights now): the same actions, bit for bit, on every CPU."""
+    if portable:
+        from .portable_policy import PORTABLE_FILE, PortablePolicy, export_arrays
+        if (Path(model_dir) / PORTABLE_FILE).exists():
+            cfg_path = Path(model_dir) / "config.json"
+            cfg = json.loads(cfg_path.read_text()) if cfg_path.exists() else {}
+            return PortablePolicy.load(model_dir, name=_trained_name(algo or cfg.get("algo", "policy"), cfg))
+        sb3 = load_trained(model_dir, algo)
+        return PortablePolicy(export_arrays(sb3.model, sb3.obs_rms, sb3.clip_obs, sb3.epsilon), name=sb3.name)
     import importlib
     import pickle
 
@@ -109,9 +121,13 @@ def load_trained(model_dir: str | Path, algo: str | None = None) -> SB3Policy:
     if vn.exists():
         with vn.open("rb") as fh:
             obs_rms = pickle.load(fh).obs_rms
+    return SB3Policy(model, obs_rms, name=_trained_name(algo, cfg))
+
+
+def _trained_name(algo: str, cfg: dict) -> str:
     steps = cfg.get("selected_timesteps", cfg.get("num_timesteps"))
     detail = "" if steps is None else f", {int(steps):,} steps"
-    return SB3Policy(model, obs_rms, name=f"{algo.upper()} (trained{detail})")
+    return f"{algo.upper()} (trained{detail})"
 
 
 class _Progress:
@@ -139,9 +155,13 @@ class _Progress:
 
 def run_policies(policies: list[Policy], episodes: int, seed: int, episode_steps: int,
                  env_kwargs: dict | None = None, num_threads: int | None = None,
-                 progress: str | None = None, progress_every_s: float = 30.0) -> list[EvalResult]:
+                 progress: str | None = None, progress_every_s: float = 30.0,
+                 perturb: Callable[[Any, list[int]], None] | None = None) -> list[EvalResult]:
     """Run every policy on ``episodes`` scenarios (seeds seed .. seed+episodes-1), all in one
     batched env (policies x episodes environments).
+
+    ``perturb(venv, seeds)``, if given, is called once after the reset, before the first action:
+    it may change the settled physics state of the envs (``agents.chaos`` nudges it by 1e-15).
 
     An episode that terminates early (the integrator diverged) ends there: its return, reward
     terms, quasi-periodic fraction and mean preload cover the steps it ran, and
@@ -153,6 +173,8 @@ def run_policies(policies: list[Policy], episodes: int, seed: int, episode_steps
                                    num_threads=num_threads, **(env_kwargs or {}))
     seeds = [seed + (i % episodes) for i in range(n)]
     obs, _ = venv.reset(seed=seeds)
+    if perturb is not None:
+        perturb(venv, seeds)
     first_obs = np.array(obs, copy=True)
     alive = np.ones(n, dtype=bool)
     terminated = np.zeros(n, dtype=bool)

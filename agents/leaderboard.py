@@ -175,7 +175,7 @@ def learned_groups(model_dirs: list[str | Path], pretrained: bool,
             groups[key] = LearnedGroup(f"{algo.upper()} ({'shipped' if shipped else 'trained'})", algo, tier, [], [], [],
                                        shipped=shipped)
         g = groups[key]
-        g.policies.append(load_trained(d, algo=algo))
+        g.policies.append(load_trained(d, algo=algo, portable=True))   # the same bits on every CPU
         g.seeds.append(cfg.get("seed"))
         g.timesteps.append(cfg.get("selected_timesteps", cfg.get("num_timesteps")))
         g.dirs.append(str(d))
@@ -246,6 +246,14 @@ def _references(tier: str, s: Settings, choice: ValidationChoice, seeds: range, 
     return refs, wall
 
 
+def _inference(policies: list) -> str:
+    """How a group's actions were computed: bit-identical on every CPU, or through torch."""
+    from .portable_policy import PortablePolicy
+    if all(isinstance(p, PortablePolicy) for p in policies):
+        return "portable float64 (agents/portable_policy.py): the same bits on every CPU"
+    return "torch: its last bits differ between CPUs"
+
+
 def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = STORE_PATH,
              contextual_dir: Path = DATA_DIR, out_dir: Path = Path("."),
              processes: int = 1, progress: bool = True, stored: StoredReferences | None = None,
@@ -257,6 +265,8 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
     and must reproduce its stored returns); else they are computed, and written to
     ``save_references_to`` if given."""
     t0 = time.time()
+    if stored is not None:             # another kernel's store: refuse before running anything
+        stored.check_kernel(f"python -m agents.leaderboard --tier {tier}")
     s = s.for_tier(tier)
     deterministic = tier_is_deterministic(tier)
     protocol_s = FULL.for_tier(tier)     # the protocol's test and MPC episodes on this tier
@@ -306,7 +316,7 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
         rows[g.row_name(tier)] = summarise("learned", runs, r0, r1, **reps, versus={"contextual constant": contextual_res},
                                  algo=g.algo, training_seeds=g.seeds,
                                  timesteps=g.timesteps, train_wall_s=g.train_wall_s, model_dirs=g.dirs,
-                                 headline=headline)
+                                 headline=headline, inference=_inference(g.policies))
         want = len(P.training_seeds(g.algo)) if g.algo in P.ALGORITHMS else None
         if not g.shipped and want is not None and len(g.policies) < want:
             deviations.append(f"{g.row_name(tier)}: {len(g.policies)} training seeds (the protocol: {want})")

@@ -32,6 +32,7 @@ from typing import Any
 import numpy as np
 
 from bearing_gym.benchmark import DEFAULT_TIER, TIER_NAMES
+from bearing_gym.envs.provenance import kernel_hash
 
 from . import mpc as mpc_module
 from . import protocol as P
@@ -77,9 +78,10 @@ def missing(tier: str, s: Settings | None = None, data_dir: Path = DATA_DIR) -> 
 
 
 def _settings(tier: str, s: Settings, preload_n: float) -> dict[str, Any]:
-    """What every part of a set must share (the MPC's source too: the stale check at evaluation
-    runs the validation constant again, which would not notice a changed MPC)."""
-    return {"tier": tier, "episode_steps": s.episode_steps, "validation_preload_n": preload_n,
+    """What every part of a set must share: the kernel (its fingerprint) and the MPC's source too
+    (the stale check at evaluation runs the validation constant again, which would not notice a
+    changed MPC)."""
+    return {"tier": tier, "kernel_hash": kernel_hash(), "episode_steps": s.episode_steps, "validation_preload_n": preload_n,
             "hindsight_grid_step_n": s.hindsight_grid_step_n,
             "mpc_settings": s.mpc_settings(),
             "mpc_source_sha1": hashlib.sha1(Path(mpc_module.__file__).read_bytes()).hexdigest()}

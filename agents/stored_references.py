@@ -11,23 +11,27 @@ in order), every metric the leaderboard reports of
 written by the full leaderboard run (``python -m agents.leaderboard``, which computes them) or
 joined from parts (``python -m agents.reference_parts``, the same rows computed a part at a time) and
 read by ``python -m agents.leaderboard --stored-references`` and by ``train.py``'s evaluation,
-on a prefix of the stored episodes. A stored set is only valid for the env it was computed on:
-every reader runs the validation-chosen constant again on its episodes and refuses the store
-(naming the command that rebuilds it) when those returns differ from the stored ones by more
-than ``STALE_TOLERANCE`` - the physics, the reward, the scenarios or the stored constant
+on a prefix of the stored episodes. A stored set is only valid for the kernel it was computed
+with: it carries that kernel's fingerprint (:func:`bearing_gym.envs.provenance.kernel_hash`) and the
+package version, and a reader refuses a store made by another kernel before running anything
+(:meth:`StoredReferences.check_kernel`). The kernel is portable (the same bits on every CPU), so
+every reader also runs the validation-chosen constant again on its episodes and refuses the
+store (naming the command that rebuilds it) unless those returns equal the stored ones bit for
+bit (``STALE_TOLERANCE`` = 0): the physics, the reward, the scenarios or the stored constant
 changed since.
 """
 
 from __future__ import annotations
 
 import json
-from dataclasses import dataclass
+from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
 import numpy as np
 
 from bearing_gym.envs.reward import REWARD_TERMS
+from bearing_gym.envs.provenance import kernel_hash, package_version
 
 from .eval_result import EvalResult
 
@@ -35,9 +39,10 @@ __all__ = ["StoredReferences", "references_path", "load_references", "result_to_
            "STALE_TOLERANCE", "DATA_DIR"]
 
 DATA_DIR = Path(__file__).with_name("data")
-#: Reward units per episode: the same run on the same machine repeats bit for bit; another
-#: machine's floating point may differ far below this; a changed env differs far above it.
-STALE_TOLERANCE = 1e-3
+#: Reward units per episode: none. The kernel gives the same bits on every CPU
+#: (bearing_gym.physics.portable_math; tests/portability), so the same kernel repeats a stored
+#: return exactly, on this machine or any other.
+STALE_TOLERANCE = 0.0
 ROWS = ("validation constant", "hindsight", "mpc")
 
 
@@ -77,6 +82,8 @@ class StoredReferences:
     mpc: EvalResult | None           # on the first len(mpc.returns) episodes
     mpc_settings: dict[str, Any]
     mpc_wall_s_per_episode: float | None = None   # the MPC's mean wall time per episode
+    kernel_hash: str | None = field(default_factory=kernel_hash)        # of the kernel that made it
+    package_version: str | None = field(default_factory=package_version)
 
     @property
     def mpc_episodes(self) -> int:
@@ -90,7 +97,19 @@ class StoredReferences:
         return StoredReferences(self.tier, self.seeds[:episodes], self.episode_steps, self.validation_preload_n,
                               self.hindsight_grid_step_n, self.validation_constant.first(episodes),
                               self.hindsight.first(episodes), self.mpc.first(m) if m else None, self.mpc_settings,
-                              self.mpc_wall_s_per_episode if m else None)
+                              self.mpc_wall_s_per_episode if m else None, self.kernel_hash,
+                              self.package_version)
+
+    def check_kernel(self, rebuild: str) -> None:
+        """Raise if the store was made by another kernel than this one (or by one before
+        fingerprints were stored), naming the command that rebuilds it."""
+        here = kernel_hash()
+        if self.kernel_hash != here:
+            made = (f"kernel {self.kernel_hash} (bearing_gym {self.package_version})" if self.kernel_hash
+                    else "a kernel without a fingerprint (before the portable kernel)")
+            raise RuntimeError(f"the stored test references of tier {self.tier} were made by {made}, not by this "
+                               f"kernel ({here}, bearing_gym {package_version()}): they are stale; rebuild them "
+                               f"with `{rebuild}`")
 
     def check_fresh(self, live_validation_returns: np.ndarray, rebuild: str) -> None:
         """Raise if the validation constant's returns, run again now on the same episodes,
@@ -112,7 +131,8 @@ class StoredReferences:
                 "validation constant": result_to_json(self.validation_constant),
                 "hindsight": result_to_json(self.hindsight),
                 "mpc": None if self.mpc is None else result_to_json(self.mpc),
-                "mpc_wall_s_per_episode": self.mpc_wall_s_per_episode}
+                "mpc_wall_s_per_episode": self.mpc_wall_s_per_episode,
+                "kernel_hash": self.kernel_hash, "package_version": self.package_version}
 
     @classmethod
     def from_json(cls, d: dict[str, Any]) -> "StoredReferences":
@@ -126,7 +146,7 @@ class StoredReferences:
                    float(d["validation_preload_n"]), float(d["hindsight_grid_step_n"]),
                    result_from_json(d["validation constant"]), result_from_json(d["hindsight"]),
                    None if d["mpc"] is None else result_from_json(d["mpc"]), dict(d.get("mpc_settings") or {}),
-                   d.get("mpc_wall_s_per_episode"))
+                   d.get("mpc_wall_s_per_episode"), d.get("kernel_hash"), d.get("package_version"))
 
     def save(self, data_dir: Path = DATA_DIR) -> Path:
         path = references_path(self.tier, data_dir)

@@ -355,12 +355,14 @@ class BearingParams:
     @property
     def ball_mass_kg(self) -> float:
         """m_b = rho pi D_b^3 / 6."""
-        return self.material.density_kg_m3 * math.pi * self.geometry.ball_diameter_m ** 3 / 6.0
+        d = self.geometry.ball_diameter_m
+        return self.material.density_kg_m3 * math.pi * (d * d * d) / 6.0
 
     @property
     def ball_inertia_kg_m2(self) -> float:
         """I_b = m_b D_b^2 / 10 (solid sphere)."""
-        return self.ball_mass_kg * self.geometry.ball_diameter_m ** 2 / 10.0
+        d = self.geometry.ball_diameter_m
+        return self.ball_mass_kg * (d * d) / 10.0
 
     def replace(self, **overrides: Any) -> "BearingParams":
         """Return a copy with flat overrides applied (same keywords as :func:`default_params`)."""

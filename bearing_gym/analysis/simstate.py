@@ -21,6 +21,7 @@ from bearing_gym.physics import Simulator, SimulatorState
 from bearing_gym.physics.bearing import bearing_force
 from bearing_gym.physics.layout import (I_NGAMMA, I_OMEGA, I_PX, I_PY, I_PZ, I_RP, PackedParams,
                                         pack_params)
+from bearing_gym.physics.portable_math import sincos
 from bearing_gym.physics.rotor import S_CAGE, S_SHAFT, solve_acceleration
 from bearing_gym.units import rpm_to_rad_s
 
@@ -96,5 +97,6 @@ class StatePerturber:
         if status != 0:
             raise RuntimeError(f"ball equilibrium failed (status {status}) at the perturbed "
                                "state; use a smaller perturbation")
-        solve_acceleration(self._F, p.prm, st.scal[S_SHAFT], st.V, st.A)
+        sin_shaft, cos_shaft = sincos(st.scal[S_SHAFT])
+        solve_acceleration(self._F, p.prm, cos_shaft, sin_shaft, st.V, st.A)
         return st

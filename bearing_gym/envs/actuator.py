@@ -15,13 +15,13 @@ first-order lag with a rate limit; the numbers are the actuator's).
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass, field
 from typing import Protocol, runtime_checkable
 
 import numpy as np
 from numba import njit
 
+from bearing_gym.physics.portable_math import exp
 from bearing_gym.validation import check_real
 
 from .parts import part_entry_point
@@ -78,7 +78,7 @@ class PreloadActuator:
 def actuator_update(preload, setpoint, h, time_constant, slew_rate):
     """Preload after ``h`` seconds: first-order lag towards the set-point, rate-limited."""
     if time_constant > 0.0:
-        change = (setpoint - preload) * (1.0 - math.exp(-h / time_constant))
+        change = (setpoint - preload) * (1.0 - exp(-h / time_constant))
     else:
         change = setpoint - preload
     limit = slew_rate * h

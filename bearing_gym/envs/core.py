@@ -12,7 +12,6 @@ at that operating point (see :meth:`PreloadBatch.settle`); ``step(setpoints, act
 from __future__ import annotations
 
 import dataclasses
-import math
 from collections import OrderedDict
 
 import numpy as np
@@ -25,6 +24,7 @@ from bearing_gym.params import BearingParams, RaceWaviness, Waviness, default_pa
 from bearing_gym.physics import Simulator
 from bearing_gym.physics.ball import N_BALL_OUT
 from bearing_gym.physics.layout import I_CTY, I_CX, N_PRM
+from bearing_gym.physics.portable_math import cos, pow, sincos
 from bearing_gym.physics.rotor import N_REC, N_SCAL
 
 from .actuator import PreloadActuator
@@ -50,8 +50,9 @@ def scenario_params(base: BearingParams, scenario: Scenario) -> BearingParams:
     if scenario.waviness_amplitude_m > 0.0:
         rw = RaceWaviness(orders=(scenario.waviness_order,), radial_amplitudes_m=(scenario.waviness_amplitude_m,))
         wav = Waviness(inner=rw, outer=rw, balls=base.waviness.balls)
-    fx0 = scenario.initial_radial_load_n * math.cos(scenario.radial_load_angle_rad)
-    fy0 = scenario.initial_radial_load_n * math.sin(scenario.radial_load_angle_rad)
+    sin_angle, cos_angle = sincos(scenario.radial_load_angle_rad)
+    fx0 = scenario.initial_radial_load_n * cos_angle
+    fy0 = scenario.initial_radial_load_n * sin_angle
     return base.replace(
         shaft_speed_rpm=scenario.initial_speed_rpm, clearance_inner_m=scenario.clearance_m,
         clearance_outer_m=scenario.clearance_m, eccentricity_m=scenario.eccentricity_m,
@@ -122,7 +123,7 @@ class PreloadBatch:
         self.rotor_damping = rotor_damping(self.base)
         self.start_failed = np.zeros(B, dtype=bool)
         g = self.base.geometry
-        self.gamma_cos_a0 = g.diameter_ratio * math.cos(g.contact_angle_rad)
+        self.gamma_cos_a0 = g.diameter_ratio * cos(g.contact_angle_rad)
 
     @property
     def dt_s(self) -> float:
@@ -249,7 +250,7 @@ class PreloadBatch:
             nominal = self.prm[cols].copy()
             updates = SETTLE_AID_INTERVALS * self.n_sub
             for k in range(updates):
-                boost = SETTLE_DAMPING_BOOST ** (1.0 - (k + 1) / updates)
+                boost = pow(SETTLE_DAMPING_BOOST, 1.0 - (k + 1) / updates)
                 self.prm[cols] = nominal * boost
                 run(periodic, 1, 1)
             self.prm[cols] = nominal
@@ -287,7 +288,8 @@ class PreloadBatch:
 
     def radial_load_n(self) -> np.ndarray:
         from bearing_gym.physics.layout import I_PX, I_PY
-        return np.hypot(self.prm[:, I_PX], self.prm[:, I_PY])
+        fx, fy = self.prm[:, I_PX], self.prm[:, I_PY]
+        return np.sqrt(fx * fx + fy * fy)          # not np.hypot: libm's, by CPU
 
     def window(self, b: int) -> np.ndarray:
         """The last control interval's record rows of env b (R_* columns)."""

@@ -19,7 +19,9 @@ harmonics, which is what unbalance and a period-1 orbit produce. What remains is
 that does not repeat every turn (the Neimark-Sacker frequency of a quasi-periodic orbit,
 ball-pass vibration, transients); ``F_NS_RMS = sqrt(sum_k mean_t(residual_k^2))``. A window
 shorter than two shaft turns cannot separate the series from the rest: then only the mean is
-removed (the RMS of the whole motion, an upper bound).
+removed (the RMS of the whole motion, an upper bound). The fit's normal equations are solved by
+:func:`bearing_gym.physics.portable_linalg.solve` and its cosines come from
+:mod:`bearing_gym.physics.portable_math`, so the features are the same bits on every CPU.
 """
 
 from __future__ import annotations
@@ -29,6 +31,8 @@ import math
 import numpy as np
 from numba import njit
 
+from bearing_gym.physics.portable_linalg import solve
+from bearing_gym.physics.portable_math import TWO_PI, sincos
 from bearing_gym.physics.rotor import R_CAGE_SPEED, R_SHAFT, R_X
 
 F_PTP_X = 0
@@ -94,8 +98,10 @@ def window_features(rec, rows, out):
     out[F_NS_RMS] = nonsynchronous_rms(rec, rows)
     # quasi-periodicity index: Poincare points at shaft angle theta_0 + 2 pi m
     theta0 = rec[0, R_SHAFT]
-    turns = int(math.floor((rec[rows - 1, R_SHAFT] - theta0) / (2.0 * math.pi) + 1e-9)) + 1
-    if turns < 3 or rec[rows - 1, R_SHAFT] <= theta0:
+    if rec[rows - 1, R_SHAFT] <= theta0:
+        return False
+    turns = int((rec[rows - 1, R_SHAFT] - theta0) / TWO_PI + 1e-9) + 1   # int() of a positive: floor
+    if turns < 3:
         return False
     size = math.sqrt(var_total)
     if size <= 1e-12:
@@ -103,7 +109,7 @@ def window_features(rec, rows, out):
     pts = np.zeros((turns, 3))
     r = 0
     for m in range(turns):
-        target = theta0 + 2.0 * math.pi * m
+        target = theta0 + TWO_PI * m
         while r < rows - 2 and rec[r + 1, R_SHAFT] < target:
             r += 1
         a0 = rec[r, R_SHAFT]
@@ -132,7 +138,7 @@ def window_features(rec, rows, out):
 def nonsynchronous_rms(rec, rows):
     """RMS (m) of x, y, z about their least-squares shaft-synchronous series (module docstring)."""
     theta0 = rec[0, R_SHAFT]
-    span_turns = (rec[rows - 1, R_SHAFT] - theta0) / (2.0 * math.pi)
+    span_turns = (rec[rows - 1, R_SHAFT] - theta0) / TWO_PI
     n_h = SYNC_HARMONICS if span_turns >= 2.0 else 0
     nb = 1 + 2 * n_h
     ata = np.zeros((nb, nb))
@@ -145,7 +151,7 @@ def nonsynchronous_rms(rec, rows):
                 ata[i, j] += basis[i] * basis[j]
             for k in range(3):
                 aty[i, k] += basis[i] * rec[r, R_X + k]
-    coef = np.linalg.solve(ata, aty)
+    coef = solve(ata, aty)
     ss = 0.0
     for r in range(rows):
         _sync_basis(rec[r, R_SHAFT] - theta0, n_h, basis)
@@ -162,8 +168,7 @@ def nonsynchronous_rms(rec, rows):
 def _sync_basis(theta, n_h, out):
     """[1, cos theta, sin theta, ..., cos n_h theta, sin n_h theta] into ``out``."""
     out[0] = 1.0
-    c1 = math.cos(theta)
-    s1 = math.sin(theta)
+    s1, c1 = sincos(theta)
     c, s = 1.0, 0.0
     for k in range(n_h):
         c, s = c * c1 - s * s1, s * c1 + c * s1

@@ -73,6 +73,7 @@ from typing import Any, Protocol, runtime_checkable
 import numpy as np
 from gymnasium import spaces
 
+from bearing_gym.physics.portable_math import standard_normal
 from bearing_gym.units import rad_s_to_rpm
 from bearing_gym.validation import check_real
 
@@ -152,20 +153,22 @@ class ObservationModel:
                  rngs) -> np.ndarray:
         ptp, rms = m.ptp_m.copy(), m.rms_m.copy()
         ns = m.nonsync_rms_m.copy()
-        size2 = np.sum(rms ** 2, axis=1)
-        spread2 = (m.qpi ** 2) * size2
+        # products, not ** (NumPy's power dispatches by CPU) and sums in a fixed order
+        size2 = rms[:, 0] * rms[:, 0] + rms[:, 1] * rms[:, 1] + rms[:, 2] * rms[:, 2]
+        spread2 = (m.qpi * m.qpi) * size2
         sigma = self.displacement_noise_m
         if sigma > 0.0:
-            rms = np.sqrt(rms ** 2 + sigma ** 2)
+            var = sigma * sigma
+            rms = np.sqrt(rms * rms + var)
             ptp = ptp + 7.0 * sigma
-            ns = np.sqrt(ns ** 2 + 3.0 * sigma ** 2)
-            spread2 = spread2 + 3.0 * sigma ** 2
-            size2 = size2 + 3.0 * sigma ** 2
+            ns = np.sqrt(ns * ns + 3.0 * var)
+            spread2 = spread2 + 3.0 * var
+            size2 = size2 + 3.0 * var
         r = state["runout_m"][env_ids]
         if np.any(r > 0.0):
-            rms[:, :2] = np.sqrt(rms[:, :2] ** 2 + 0.5 * r[:, None] ** 2)
+            rms[:, :2] = np.sqrt(rms[:, :2] * rms[:, :2] + 0.5 * (r * r)[:, None])
             ptp[:, :2] = ptp[:, :2] + 2.0 * r[:, None]
-            size2 = size2 + r ** 2
+            size2 = size2 + r * r
         qpi = np.where(size2 > 0.0, np.sqrt(spread2 / np.where(size2 > 0.0, size2, 1.0)), 0.0)
         offsets = m.mean_displacement_m + self._drifted_offsets(m, state, env_ids, rngs)
         p_min, p_max = m.preload_range_n
@@ -181,7 +184,7 @@ class ObservationModel:
         obs[:, 9] = 2.0 * (m.preload_n - p_min) / span - 1.0
         obs[:, 10] = 2.0 * (m.setpoint_n - p_min) / span - 1.0
         obs[:, 11] = rad_s_to_rpm(m.shaft_speed_rad_s) / self.speed_scale_rpm
-        obs[:, 12] = np.hypot(offsets[:, 0], offsets[:, 1]) / self.offset_scale_m
+        obs[:, 12] = np.sqrt(offsets[:, 0] * offsets[:, 0] + offsets[:, 1] * offsets[:, 1]) / self.offset_scale_m
         obs[:, 13] = offsets[:, 2] / self.offset_scale_m
         obs[:, 14] = ns / self.nonsync_scale_m
         obs = np.nan_to_num(obs, nan=0.0, posinf=OBS_BOUND, neginf=-OBS_BOUND)
@@ -192,6 +195,6 @@ class ObservationModel:
         if self.offset_drift_m_per_sqrt_s > 0.0:
             for k, i in enumerate(env_ids):
                 dt = max(float(m.t_s[k]) - float(state["t_s"][i]), 0.0)
-                state["offset_m"][i] += rngs[k].normal(0.0, self.offset_drift_m_per_sqrt_s * math.sqrt(dt), size=3)
+                state["offset_m"][i] += (self.offset_drift_m_per_sqrt_s * math.sqrt(dt)) * standard_normal(rngs[k], 3)
                 state["t_s"][i] = float(m.t_s[k])
         return state["offset_m"][env_ids]

@@ -64,6 +64,7 @@ from typing import Protocol, runtime_checkable
 
 import numpy as np
 
+from bearing_gym.physics.portable_math import pow_array
 from bearing_gym.units import rpm_to_rad_s
 from bearing_gym.validation import check_real
 
@@ -123,8 +124,11 @@ class VibrationFirstReward:
         """(heat, fatigue) costs (>= 0) at an operating point."""
         speed = np.asarray(shaft_speed_rad_s) / rpm_to_rad_s(self.max_speed_rpm)
         p_eq_max = self.equivalent_load_n(self.max_radial_load_n, self.max_preload_n)
-        heat = self.heat_share * (np.asarray(preload_n) / self.max_preload_n) ** HEAT_LOAD_EXPONENT * speed
-        fatigue = self.fatigue_share * (self.equivalent_load_n(radial_load_n, preload_n) / p_eq_max) ** 3 * speed
+        # the portable pow and a product for the cube: NumPy's ** dispatches by CPU feature
+        load = np.asarray(preload_n, dtype=np.float64) / self.max_preload_n
+        heat = self.heat_share * pow_array(np.atleast_1d(load), HEAT_LOAD_EXPONENT).reshape(load.shape) * speed
+        eq = np.asarray(self.equivalent_load_n(radial_load_n, preload_n), dtype=np.float64) / p_eq_max
+        fatigue = self.fatigue_share * (eq * eq * eq) * speed
         return heat, fatigue
 
     def vibration_cost(self, quasi_periodic, nonsync_rms_m) -> np.ndarray:

@@ -19,6 +19,7 @@ from typing import Any, Mapping, Protocol, runtime_checkable
 
 import numpy as np
 
+from bearing_gym.physics.portable_math import sincos
 from bearing_gym.units import rpm_to_rad_s
 
 from .parts import part_entry_point
@@ -113,7 +114,7 @@ class Scenario:
             row[1 + 2 * k], row[2 + 2 * k] = t, rpm_to_rad_s(rpm)
         base = 1 + 2 * MAX_EVENTS
         row[base] = len(self.radial_load_profile)
-        c, s = math.cos(self.radial_load_angle_rad), math.sin(self.radial_load_angle_rad)
+        s, c = sincos(self.radial_load_angle_rad)
         for k, (t, f) in enumerate(self.radial_load_profile):
             row[base + 1 + 3 * k: base + 4 + 3 * k] = (t, f * c, f * s)
         return row

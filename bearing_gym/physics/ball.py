@@ -34,6 +34,7 @@ from .hertz import contact_semi_major_axis, hertz_constant, inner_rx, outer_rx
 from .kinematics import race_control_kinematics
 from .layout import (I_COSA0, I_DB, I_DP, I_EEFF, I_GAM, I_IB, I_LI0, I_LO0, I_MB, I_NT_MAXIT,
                      I_NT_TOL, I_RYI, I_RYO, I_SINA0)
+from .portable_math import pow, sincos
 
 BALL_OK = 0
 BALL_NOT_CONVERGED = 1
@@ -164,7 +165,7 @@ def ball_model(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm):
     dqo_r = dqo_da * dao_r + dqo_dl * co                      # C.8
     dqo_z = dqo_da * dao_z + dqo_dl * so                      # C.10
     # race control (App. B), eqs 29-30
-    wm, dwm_i, dwm_o, mg, dmg_i, dmg_o, wb, beta = race_control_kinematics(
+    wm, dwm_i, dwm_o, mg, dmg_i, dmg_o, wb = race_control_kinematics(
         ci, si, co, so, omega, prm[I_GAM], prm[I_IB], inner_control)
     s_i, ds_i = contact_factor(di)
     s_o, ds_o = contact_factor(do)
@@ -220,8 +221,7 @@ def prefers_outer_control(qi, qo, ci, si, co, so, prm):
 def _arc_point(l_o, co, so, d_alpha, prm):
     """Ball displacement v at distance ``l_o`` from the outer-groove centre, at the angle
     alpha_o + d_alpha where (co, so) = (cos, sin) alpha_o (eq 19 inverted)."""
-    c = math.cos(d_alpha)
-    s = math.sin(d_alpha)
+    s, c = sincos(d_alpha)
     vr = l_o * (co * c - so * s) - prm[I_LO0] * prm[I_COSA0]
     vz = l_o * (so * c + co * s) - prm[I_LO0] * prm[I_SINA0]
     return vr, vz
@@ -257,7 +257,7 @@ def solve_ball(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm, out, j
                 # no outer contact at speed: nothing can hold the ball against its centrifugal
                 # force (and the inner-race push), so put it against the outer race, where the
                 # Hertz load balances that force, and let Newton go on from there
-                target = dist_o + ((fe + qi) / ko) ** (2.0 / 3.0)
+                target = dist_o + pow((fe + qi) / ko, 2.0 / 3.0)
                 vr = target * co - prm[I_LO0] * prm[I_COSA0]
                 vz = target * so - prm[I_LO0] * prm[I_SINA0]
                 prev_norm = math.inf

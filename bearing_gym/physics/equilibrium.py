@@ -4,7 +4,10 @@ built from eqs 3-33 with the loads of eq 35, no unbalance, at t = 0).
 The rotor displacement U solves F(U) + P = 0, where F is the bearing force of eq 33 (each ball
 in its own equilibrium, eq 28) and P = (P_x, P_y, P, 0, 0). It is found by a damped Newton
 iteration whose Jacobian, the bearing stiffness K = -dF/dU, is taken by central differences of
-the converged bearing force (each ball to a 1 nm Newton step plus a first-order update).
+the converged bearing force (each ball to a 1 nm Newton step plus a first-order update). The
+Newton step is a least-squares solve of our own (:func:`.portable_linalg.lstsq`, not LAPACK), so
+the equilibrium, and the settled start built on it, are the same bits on every CPU; the contact
+angles it reports (``alpha_i``, ``alpha_o``, outputs only) use NumPy's ``arctan2``.
 """
 
 from __future__ import annotations
@@ -21,6 +24,8 @@ from .bearing import bearing_force, cage_speed
 from .kinematics import race_control_kinematics
 from .layout import (CONTROL_INNER, I_CONTROL, I_GAM, I_IB, I_NT_TOL, I_OMEGA, I_RP,
                      PackedParams, pack_params)
+from .portable_linalg import lstsq
+from .portable_math import pow, sin
 
 __all__ = ["StaticEquilibrium", "static_equilibrium", "EquilibriumError"]
 
@@ -122,10 +127,10 @@ def _initial_guess(params) -> np.ndarray:
     n = g.n_balls
     p_ax = params.loads.axial_preload_n
     k_guess = 4.0e10
-    sa = max(math.sin(g.contact_angle_rad), 0.2)
+    sa = max(sin(g.contact_angle_rad), 0.2)
     if p_ax > 0:
         q = p_ax / (n * sa)
-        delta = (q / k_guess) ** (2.0 / 3.0)
+        delta = pow(q / k_guess, 2.0 / 3.0)
         U[2] = (2.0 * delta + g.clearance_inner_m + g.clearance_outer_m) / sa
     return U
 
@@ -162,7 +167,7 @@ def static_equilibrium(params, *, max_iter: int = 200, tol_n: float = 1e-4) -> S
             # no contact anywhere: push the rotor along the load until the balls engage
             dU = P / (np.max(np.abs(P[:3])) + 1e-300) * max_step
         else:
-            dU = np.linalg.lstsq(K, R, rcond=1e-12)[0]          # Newton: K dU = F + P
+            dU = lstsq(K, R, 1e-12)                             # Newton: K dU = F + P
         step = np.max(np.abs(dU * np.array([1, 1, 1, rp, rp])))
         if step > trust:
             dU *= trust / step

@@ -1,7 +1,8 @@
 """Hertz load-deflection constants (paper App. A, eqs A.1-A.7) and their derivatives (C.11-C.18).
 
 The Brewe-Hamrock curve fits (A.2-A.4) replace the elliptic integrals of the exact Hertz
-solution; ``tests/physics/test_hertz.py`` checks them against the exact solution.
+solution; ``tests/physics/test_hertz.py`` checks them against the exact solution. Their powers
+and logarithm are the portable ones of :mod:`.portable_math` (the same bits on every CPU).
 """
 
 from __future__ import annotations
@@ -9,6 +10,8 @@ from __future__ import annotations
 import math
 
 from numba import njit
+
+from .portable_math import cbrt, exp, log, pow
 
 
 @njit(cache=True, inline="always")
@@ -20,9 +23,10 @@ def hertz_constant(r_x: float, r_y: float, e_eff: float):
     so dK/dR_x with dR_x/dalpha gives the paper's C.11-C.18 (with the C.16/C.18 errata fixed).
     """
     ratio = r_y / r_x                                   # R_y / R_x
-    k_bar = 1.0339 * ratio ** 0.6360                    # A.2
+    log_ratio = log(ratio)
+    k_bar = 1.0339 * exp(0.6360 * log_ratio)            # A.2: ratio**0.6360 (portable_math.pow)
     e_bar = 1.0003 + 0.5968 / ratio                     # A.3
-    f_bar = 1.5277 + 0.6023 * math.log(ratio)           # A.4
+    f_bar = 1.5277 + 0.6023 * log_ratio                 # A.4
     r_bar = r_x * r_y / (r_x + r_y)                     # A.5
     k = math.pi * e_eff * k_bar * math.sqrt(r_bar * e_bar / (4.5 * f_bar * f_bar * f_bar))
     # d ln K / d ratio (C.12-C.14) and d ln K / d R_x
@@ -54,9 +58,9 @@ def contact_semi_major_axis(load: float, r_x: float, r_y: float, e_eff: float):
     Jones/Harris race-control criterion (``race_control="auto"``).
     """
     ratio = r_y / r_x
-    k_bar = 1.0339 * ratio ** 0.6360
+    k_bar = 1.0339 * pow(ratio, 0.6360)
     e_bar = 1.0003 + 0.5968 / ratio
     r_bar = r_x * r_y / (r_x + r_y)
     if load <= 0.0:
         return 0.0, e_bar
-    return (6.0 * k_bar * k_bar * e_bar * load * r_bar / (math.pi * e_eff)) ** (1.0 / 3.0), e_bar
+    return cbrt(6.0 * k_bar * k_bar * e_bar * load * r_bar / (math.pi * e_eff)), e_bar

@@ -26,9 +26,10 @@ from numba import njit
 @njit(cache=True, inline="always")
 def race_control_kinematics(ci: float, si: float, co: float, so: float, omega: float,
                             gamma: float, ib: float, inner_control: bool):
-    """Return (omega_m, domega_m/da_i, domega_m/da_o, M_g, dM_g/da_i, dM_g/da_o, omega_b, beta).
+    """Return (omega_m, domega_m/da_i, domega_m/da_o, M_g, dM_g/da_i, dM_g/da_o, omega_b).
 
-    ``ci, si, co, so`` are cos/sin of alpha_i and alpha_o.
+    ``ci, si, co, so`` are cos/sin of alpha_i and alpha_o. The spin-axis angle beta, which the
+    dynamics need only through sin(beta) (already in M_g), is :func:`spin_axis_angle`.
     """
     cd = ci * co + si * so          # cos(a_i - a_o)
     sd = si * co - ci * so          # sin(a_i - a_o)
@@ -45,7 +46,6 @@ def race_control_kinematics(ci: float, si: float, co: float, so: float, omega: f
         dmg_dao = -cmg * (a * a * co / den2 - a * a * so * 2.0 * sd / (den2 * den))
         s = math.sqrt(1.0 + 2.0 * gamma * co + gamma * gamma)
         wb = -omega * s * a / (gamma * den)
-        beta = math.atan2(so, co + gamma)
     else:
         num = cd - gamma * co
         wm = omega * num / den
@@ -60,5 +60,17 @@ def race_control_kinematics(ci: float, si: float, co: float, so: float, omega: f
         dmg_dao = -cmg * (dp_dao * si / den2 - pp * si * 2.0 * sd / (den2 * den))
         s = math.sqrt(1.0 - 2.0 * gamma * ci + gamma * gamma)
         wb = -omega * s * b / (gamma * den)
-        beta = math.atan2(si, ci - gamma)
-    return wm, dwm_dai, dwm_dao, mg, dmg_dai, dmg_dao, wb, beta
+    return wm, dwm_dai, dwm_dao, mg, dmg_dai, dmg_dao, wb
+
+
+def spin_axis_angle(ci: float, si: float, co: float, so: float, gamma: float,
+                    inner_control: bool) -> float:
+    """Angle beta (rad) of the ball's spin axis (B.4 / B.8): atan2(sin a_o, cos a_o + gamma)
+    under outer-race control, atan2(sin a_i, cos a_i - gamma) under inner-race control.
+
+    A diagnostic (tests, analysis): it calls libm's atan2, so nothing that feeds the state uses
+    it; the dynamics need only sin(beta), which :func:`race_control_kinematics` builds from
+    basic operations."""
+    if inner_control:
+        return math.atan2(si, ci - gamma)
+    return math.atan2(so, co + gamma)

@@ -14,10 +14,11 @@ The frozen dataclasses of :mod:`bearing_gym.params` are converted once, here
 
 from __future__ import annotations
 
-import math
 from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
+
+from .portable_math import sincos
 
 if TYPE_CHECKING:  # pragma: no cover
     from bearing_gym.params import BearingParams
@@ -103,11 +104,12 @@ def pack_params(p: "BearingParams", damping_coefficients: np.ndarray | None = No
     prm[I_DP] = dp
     prm[I_RI] = ri
     prm[I_RO] = ro
-    prm[I_COSA0] = math.cos(a0)
-    prm[I_SINA0] = math.sin(a0)
+    sin_a0, cos_a0 = sincos(a0)
+    prm[I_COSA0] = cos_a0
+    prm[I_SINA0] = sin_a0
     prm[I_CI] = g.clearance_inner_m
     prm[I_CO] = g.clearance_outer_m
-    prm[I_EEFF] = mat.youngs_modulus_pa / (1.0 - mat.poisson_ratio ** 2)
+    prm[I_EEFF] = mat.youngs_modulus_pa / (1.0 - mat.poisson_ratio * mat.poisson_ratio)
     # m_b and I_b enter the ball model only through the centrifugal force (eq 29) and the
     # gyroscopic moment (eq 30): a switched-off term is a zero mass or inertia
     prm[I_MB] = p.ball_mass_kg if p.include_centrifugal else 0.0
@@ -115,8 +117,8 @@ def pack_params(p: "BearingParams", damping_coefficients: np.ndarray | None = No
     prm[I_GAM] = db / dp
     # the inner groove centre lies on the nominal contact line, radially outside the ball
     # centre (docs/model.md; consistent with eqs 18-19): r_p = D_p/2 + L_i cos a0, z_p = L_i sin a0
-    prm[I_RP] = dp / 2.0 + li0 * math.cos(a0)
-    prm[I_ZP] = li0 * math.sin(a0)
+    prm[I_RP] = dp / 2.0 + li0 * cos_a0
+    prm[I_ZP] = li0 * sin_a0
     prm[I_LI0] = li0
     prm[I_LO0] = lo0
     prm[I_RYI] = ri / (2.0 * ri / db - 1.0)

@@ -28,10 +28,11 @@ import numpy as np
 from numba import njit
 
 from .ball import B_QI, B_VR_PREV, B_VZ_PREV, B_WB
-from .bearing import bearing_force, cage_speed
+from .bearing import N_GEO, ball_geometry, bearing_force_on, cage_speed
 from .layout import (I_CTX, I_CTY, I_CX, I_CY, I_CZ, I_DIVLIM, I_DT, I_ECC, I_IR, I_IZ, I_MASS,
                      I_NB, I_NBETA, I_NGAMMA, I_NM_MAXIT, I_NM_TOL, I_OMEGA, I_PX, I_PY, I_PZ,
                      I_RP)
+from .portable_math import sincos
 from .status import ST_DIVERGED, ST_NEWMARK_NOT_CONVERGED, ST_OK  # noqa: F401 - ST_OK re-exported
 
 # status codes of integrate(): .status (ST_OK, ST_NEWMARK_NOT_CONVERGED, ST_DIVERGED; the ball
@@ -60,18 +61,19 @@ N_REC = 20
 
 
 @njit(cache=True, inline="always")
-def solve_acceleration(F, prm, t_shaft, vstar, a_out):
+def solve_acceleration(F, prm, cos_shaft, sin_shaft, vstar, a_out):
     """Solve eq 35 (with damping) for the acceleration at velocity v = v* + gamma dt a.
 
-    (M + gamma dt (C + G)) a = F + P + unbalance - (C + G) v*.
+    (M + gamma dt (C + G)) a = F + P + unbalance - (C + G) v*, with the unbalance force
+    m e omega^2 (cos theta_s, sin theta_s) at the shaft angle theta_s.
     """
     m = prm[I_MASS]
     ir = prm[I_IR]
     omega = prm[I_OMEGA]
     gdt = prm[I_NGAMMA] * prm[I_DT]
     unb = m * prm[I_ECC] * omega * omega
-    a_out[0] = (F[0] + prm[I_PX] + unb * math.cos(t_shaft) - prm[I_CX] * vstar[0]) / (m + gdt * prm[I_CX])
-    a_out[1] = (F[1] + prm[I_PY] + unb * math.sin(t_shaft) - prm[I_CY] * vstar[1]) / (m + gdt * prm[I_CY])
+    a_out[0] = (F[0] + prm[I_PX] + unb * cos_shaft - prm[I_CX] * vstar[0]) / (m + gdt * prm[I_CX])
+    a_out[1] = (F[1] + prm[I_PY] + unb * sin_shaft - prm[I_CY] * vstar[1]) / (m + gdt * prm[I_CY])
     a_out[2] = (F[2] + prm[I_PZ] - prm[I_CZ] * vstar[2]) / (m + gdt * prm[I_CZ])
     g = prm[I_IZ] * omega
     # [[ir + gdt ctx, gdt g], [-gdt g, ir + gdt cty]] (atx, aty) = (rx, ry)
@@ -134,6 +136,7 @@ def integrate(prm, race_wav, ball_wav, ball_phase, ball_size, X, V, A, scal, psi
     a_new = np.zeros(5)
     vstar = np.zeros(5)
     base = np.zeros(5)
+    geo = np.zeros((n, N_GEO))
     status = ST_OK
     rows = 0
     done = 0
@@ -151,6 +154,10 @@ def integrate(prm, race_wav, ball_wav, ball_phase, ball_size, X, V, A, scal, psi
             ball_v[j, 1] = 2.0 * vz - ball_out[j, B_VZ_PREV]
             ball_out[j, B_VR_PREV] = vr
             ball_out[j, B_VZ_PREV] = vz
+        # what the angles fix for the whole step: ball positions and waviness, unbalance phase
+        ball_geometry(scal[S_CAGE], scal[S_SHAFT], psi_b, prm, race_wav, ball_wav, ball_phase,
+                      geo)
+        sin_shaft, cos_shaft = sincos(scal[S_SHAFT])
         newmark_predictor(X, V, A, dt, beta, gam, base, vstar)
         for k in range(5):
             # predictor: a_{n+1} extrapolated quadratically from a_n, a_{n-1}, a_{n-2}
@@ -161,12 +168,11 @@ def integrate(prm, race_wav, ball_wav, ball_phase, ball_size, X, V, A, scal, psi
         converged = False
         for it in range(maxit):
             scal[S_N_EVAL] += 1.0
-            st = bearing_force(Xn, scal[S_CAGE], scal[S_SHAFT], psi_b, prm, race_wav, ball_wav,
-                               ball_phase, ball_size, ball_v, ball_out, F)
+            st = bearing_force_on(Xn, geo, prm, ball_size, ball_v, ball_out, F)
             if st != 0:
                 status = st
                 break
-            solve_acceleration(F, prm, scal[S_SHAFT], vstar, a_new)
+            solve_acceleration(F, prm, cos_shaft, sin_shaft, vstar, a_new)
             diff = 0.0
             for k in range(5):
                 x_new = newmark_displacement(base[k], a_new[k], dt, beta)

@@ -168,7 +168,7 @@ class Simulator:
         s.ball_out[:, B_VZ_PREV] = s.ball_v[:, 1]
         omega = prm[I_OMEGA]
         s.scal[S_CAGE_SPEED] = cage_speed(s.ball_out, s.psi_b.shape[0], eq.cage_speed_ratio * omega)
-        solve_acceleration(F, _zero_gamma(prm), 0.0, s.V, s.A)
+        solve_acceleration(F, _zero_gamma(prm), 1.0, 0.0, s.V, s.A)   # shaft angle 0
         s.scal[S_A_PREV:S_A_PREV + 5] = s.A              # no extrapolation on the first step
         s.scal[S_A_PREV2:S_A_PREV2 + 5] = s.A
         return self.state

@@ -7,13 +7,17 @@ theta_s the shaft angle (the inner race turns with the shaft, the outer race is 
     p_ij = sum_n A_in cos(n (phi_j - theta_s) + xi_in)      q_ij = sum_n B_in cos(... + eta_in)
     p_oj = sum_n A_on cos(n phi_j + xi_on)                  q_oj = sum_n B_on cos(... + eta_on)
     w_ij = sum_n C_n cos(n psi_bj + zeta_nj)                w_oj = sum_n C_n cos(n (psi_bj + pi) + zeta_nj)
+
+The angles change only between time steps, so :func:`bearing.ball_geometry` evaluates these
+sums once per step (not once per bearing-force evaluation); the cosines are the portable ones
+of :mod:`.portable_math`.
 """
 
 from __future__ import annotations
 
-import math
-
 from numba import njit
+
+from .portable_math import PI, cos
 
 
 @njit(cache=True, inline="always")
@@ -28,13 +32,13 @@ def race_waviness(race_wav, phi, shaft_angle):
         kind = race_wav[k, 1]
         order = race_wav[k, 2]
         if race == 0.0:
-            val = race_wav[k, 3] * math.cos(order * (phi - shaft_angle) + race_wav[k, 4])
+            val = race_wav[k, 3] * cos(order * (phi - shaft_angle) + race_wav[k, 4])
             if kind == 0.0:
                 p_i += val
             else:
                 q_i += val
         else:
-            val = race_wav[k, 3] * math.cos(order * phi + race_wav[k, 4])
+            val = race_wav[k, 3] * cos(order * phi + race_wav[k, 4])
             if kind == 0.0:
                 p_o += val
             else:
@@ -51,6 +55,6 @@ def ball_waviness(ball_wav, ball_phase, j, psi_b):
         order = ball_wav[k, 0]
         amp = ball_wav[k, 1]
         ph = ball_phase[j, k]
-        w_i += amp * math.cos(order * psi_b + ph)
-        w_o += amp * math.cos(order * (psi_b + math.pi) + ph)
+        w_i += amp * cos(order * psi_b + ph)
+        w_o += amp * cos(order * (psi_b + PI) + ph)
     return w_i, w_o

@@ -105,10 +105,17 @@ def test_stored_references_reproduce_the_computed_rows_and_refuse_a_stale_store(
     for name, row in computed["policies"].items():
         for key in ("normalised_score_iqm", "ci_low", "ci_high", "mean_return", "heat_cost"):
             assert again["policies"][name][key] == pytest.approx(row[key], rel=1e-12, abs=1e-12), (name, key)
-    refs.validation_constant.returns[1] += 0.01            # an env that changed by 0.01 per episode
+    from bearing_gym.envs.provenance import kernel_hash
+    assert refs.kernel_hash == kernel_hash()                 # the store says which kernel made it
+    refs.validation_constant.returns[1] = np.nextafter(refs.validation_constant.returns[1], 0.0)
     with pytest.raises(RuntimeError, match="stale.*python -m agents.leaderboard --tier transient"):
         leaderboard.run_tier("transient", s, [], out_dir=tmp_path, progress=False, contextual_dir=tmp_path,
-                             stored=refs)
+                             stored=refs)                     # one ulp off: the kernel is portable
+    other = load_references("transient", tmp_path / "refs")
+    other.kernel_hash = "0123456789abcdef"                   # made by another kernel
+    with pytest.raises(RuntimeError, match="made by kernel 0123456789abcdef.*stale.*agents.leaderboard --tier transient"):
+        leaderboard.run_tier("transient", s, [], out_dir=tmp_path, progress=False, contextual_dir=tmp_path,
+                             stored=other)
 
 
 def test_a_deterministic_tier_runs_one_episode_and_names_policies_trained_elsewhere(tmp_path):

@@ -7,7 +7,7 @@ import pytest
 from hypothesis import given, settings
 from hypothesis import strategies as st
 
-from bearing_gym.physics.kinematics import race_control_kinematics
+from bearing_gym.physics.kinematics import race_control_kinematics, spin_axis_angle
 
 DB, DP = 19.05e-3, 140e-3
 GAMMA = DB / DP
@@ -20,9 +20,9 @@ def contact_velocities(alpha_i, alpha_o, omega, inner_control):
     spin axis a = (-sin beta, 0, cos beta) (beta from the bearing axis, App. B); the inner race
     turns at omega about the bearing axis, the outer race is fixed.
     """
-    wm, _, _, _, _, _, wb, beta = race_control_kinematics(
-        math.cos(alpha_i), math.sin(alpha_i), math.cos(alpha_o), math.sin(alpha_o), omega, GAMMA,
-        1.0, inner_control)
+    ci, si, co, so = math.cos(alpha_i), math.sin(alpha_i), math.cos(alpha_o), math.sin(alpha_o)
+    wm, _, _, _, _, _, wb = race_control_kinematics(ci, si, co, so, omega, GAMMA, 1.0, inner_control)
+    beta = spin_axis_angle(ci, si, co, so, GAMMA, inner_control)
     spin_axis = np.array([-math.sin(beta), 0.0, math.cos(beta)])
     w_ball = np.array([0.0, 0.0, wm]) + wb * spin_axis
     centre = np.array([DP / 2, 0.0, 0.0])
