@@ -141,6 +141,12 @@ class BearingPreloadEnv(gym.Env):
 
     ## Version History
 
+    * v0 (portable kernel): the same definition, now the same bits on every CPU: nothing that
+      feeds the state, the observation or the reward calls libm, NumPy's SIMD transcendentals or
+      BLAS/LAPACK (``bearing_gym.physics.portable_math``; docs/model.md). The last bits of every
+      trajectory changed once (a quasi-periodic episode's return by a few per cent), and the
+      ``field`` tier's probe-offset drift draws its normals by Box-Muller from the generator's
+      uniforms instead of NumPy's ziggurat.
     * v0 (redefined in place before the first release): the integrator step of the env is
       25 us with a 1e-10 m Newmark tolerance (was 10 us, 1e-13 m: 3.3x less kernel time, the
       accuracy bounds of ``benchmarks/bench_accuracy.py`` hold); the reward is about vibration

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import json
 import os
+import platform
 import subprocess
 import sys
 from pathlib import Path
@@ -59,6 +60,8 @@ def _result(proc: subprocess.Popen, label: str) -> dict:
 
 @pytest.fixture(scope="module")
 def runs(tmp_path_factory) -> dict[str, dict]:
+    if platform.machine().lower() not in ("x86_64", "amd64"):
+        pytest.skip("the dispatch settings emulated here (glibc hwcaps, OpenBLAS core types) are x86-64's")
     fresh_cache = tmp_path_factory.mktemp("numba_generic")
     settings = {
         "host": {},
