@@ -34,6 +34,7 @@ from typing import Any
 import numpy as np
 
 from bearing_gym.benchmark import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
+from bearing_gym.envs.provenance import kernel_hash
 
 from .evaluate import PRETRAINED_DIR, load_trained, run_policies, shipped_dirs
 from .policies import ConstantPreload
@@ -121,12 +122,18 @@ def main(argv: list[str] | None = None) -> int:
     for r in range(a.replicas + 1):
         path = parts / f"replica_{r}.json"
         if path.exists():
-            print(f"replica {r}: done before ({path})", flush=True)
-            continue
+            done = json.loads(path.read_text())
+            names = sorted(p.name for p in policies)
+            if (done.get("tier"), done.get("episodes"), done.get("kernel_hash"), sorted(done["returns"])) == \
+                    (a.tier, a.episodes, kernel_hash(), names):
+                print(f"replica {r}: done before ({path})", flush=True)
+                continue
+            print(f"replica {r}: {path} was made for another tier, episode count, kernel or policy set: "
+                  "computing it again", flush=True)
         t = time.time()
         rows = replica_returns(policies, a.tier, a.episodes, r)
         tmp = path.with_suffix(".tmp")
-        tmp.write_text(json.dumps({"tier": a.tier, "replica": r, "episodes": a.episodes,
+        tmp.write_text(json.dumps({"tier": a.tier, "replica": r, "episodes": a.episodes, "kernel_hash": kernel_hash(),
                                    "relative_perturbation": RELATIVE_PERTURBATION if r else 0.0,
                                    "wall_s": time.time() - t, "returns": rows}) + "\n")
         tmp.replace(path)
@@ -134,7 +141,7 @@ def main(argv: list[str] | None = None) -> int:
     reps = [json.loads((parts / f"replica_{r}.json").read_text()) for r in range(a.replicas + 1)]
     names = list(reps[0]["returns"])
     returns = {n: np.array([rep["returns"][n] for rep in reps]) for n in names}
-    summary = {"about": __doc__.split("\n\n")[0], "tier": a.tier, "episodes": a.episodes,
+    summary = {"about": __doc__.split("\n\n")[0], "tier": a.tier, "episodes": a.episodes, "kernel_hash": kernel_hash(),
                "replicas": a.replicas, "relative_perturbation": RELATIVE_PERTURBATION,
                "command": "python -m agents.chaos " + " ".join(sys.argv[1:] if argv is None else argv),
                "wall_s": sum(rep["wall_s"] for rep in reps), "policies": summarise(returns)}

@@ -84,11 +84,12 @@ def load_trained(model_dir: str | Path, algo: str | None = None, portable: bool 
     (train.py writes it): one of ALGORITHM_CLASSES.
 
     ``portable=True``: the same deterministic policy evaluated in float64 without torch
-    (:class:`agents.portable_policy.PortablePolicy`; from ``portable_policy.npz`` if exported,
-    else from the model's weights now): the same actions, bit for bit, on every CPU."""
+    (:class:`agents.portable_policy.PortablePolicy`; from ``portable_policy.npz`` if it was
+    exported from the model files there now, else from the model's weights now): the same
+    actions, bit for bit, on every CPU. ValueError for an architecture it does not cover."""
     if portable:
-        from .portable_policy import PORTABLE_FILE, PortablePolicy, export_arrays
-        if (Path(model_dir) / PORTABLE_FILE).exists():
+        from .portable_policy import PortablePolicy, export_arrays, is_current
+        if is_current(model_dir):           # exported from these very model files (else: export now)
             cfg_path = Path(model_dir) / "config.json"
             cfg = json.loads(cfg_path.read_text()) if cfg_path.exists() else {}
             return PortablePolicy.load(model_dir, name=_trained_name(algo or cfg.get("algo", "policy"), cfg))

@@ -175,7 +175,11 @@ def learned_groups(model_dirs: list[str | Path], pretrained: bool,
             groups[key] = LearnedGroup(f"{algo.upper()} ({'shipped' if shipped else 'trained'})", algo, tier, [], [], [],
                                        shipped=shipped)
         g = groups[key]
-        g.policies.append(load_trained(d, algo=algo, portable=True))   # the same bits on every CPU
+        try:
+            g.policies.append(load_trained(d, algo=algo, portable=True))   # the same bits on every CPU
+        except ValueError as err:                  # an architecture the portable path does not cover
+            print(f"note: {d}: {err}; evaluated through torch (statistical across CPUs)", flush=True)
+            g.policies.append(load_trained(d, algo=algo))
         g.seeds.append(cfg.get("seed"))
         g.timesteps.append(cfg.get("selected_timesteps", cfg.get("num_timesteps")))
         g.dirs.append(str(d))

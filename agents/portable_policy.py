@@ -35,7 +35,7 @@ from bearing_gym.physics.portable_math import exp, tanh
 
 from .policies import Policy
 
-__all__ = ["PortablePolicy", "export", "export_arrays", "PORTABLE_FILE"]
+__all__ = ["PortablePolicy", "export", "export_arrays", "is_current", "source_digest", "PORTABLE_FILE"]
 
 PORTABLE_FILE = "portable_policy.npz"
 ACTIVATIONS = {"tanh": 0, "relu": 1}
@@ -91,9 +91,16 @@ def export_arrays(model, obs_rms=None, clip_obs: float = 10.0, epsilon: float = 
     and its VecNormalize statistics, as :class:`PortablePolicy` reads them."""
     import torch.nn as nn
 
+    from stable_baselines3.common.torch_layers import FlattenExtractor
+
     pol = model.policy
     name = type(pol).__name__
     arrays: dict[str, np.ndarray] = {}
+    extractor = getattr(getattr(pol, "actor", pol), "features_extractor", None)
+    if extractor is not None and not isinstance(extractor, FlattenExtractor):
+        raise ValueError(f"no portable path for a {type(extractor).__name__} features extractor (Flatten only)")
+    if getattr(model, "use_sde", False):
+        raise ValueError("no portable path for a policy trained with gSDE (use_sde=True)")
     if name == "SACPolicy":
         seq, out, kind = pol.actor.latent_pi, pol.actor.mu, "sac"
     elif name in ("ActorCriticPolicy", "RecurrentActorCriticPolicy"):
@@ -120,6 +127,8 @@ def export_arrays(model, obs_rms=None, clip_obs: float = 10.0, epsilon: float = 
         arrays[f"hidden_{k}_b"] = layer.bias.detach().cpu().double().numpy()
         arrays[f"hidden_{k}_activation"] = np.array(ACTIVATIONS[act_name])
         k += 1
+    if not isinstance(out, nn.Linear):
+        raise ValueError(f"no portable path for an action head of type {type(out).__name__}")
     arrays["out_w"] = out.weight.detach().cpu().double().numpy()
     arrays["out_b"] = out.bias.detach().cpu().double().numpy()
     arrays["kind"] = np.array(kind)
@@ -133,14 +142,37 @@ def export_arrays(model, obs_rms=None, clip_obs: float = 10.0, epsilon: float = 
     return arrays
 
 
+def source_digest(model_dir: str | Path) -> str:
+    """SHA-256 of ``model.zip`` and ``vec_normalize.pkl``: what an export was made from."""
+    import hashlib
+    h = hashlib.sha256()
+    for name in ("model.zip", "vec_normalize.pkl"):
+        path = Path(model_dir) / name
+        if path.exists():
+            h.update(name.encode())
+            h.update(path.read_bytes())
+    return h.hexdigest()
+
+
 def export(model_dir: str | Path) -> Path:
-    """Write ``portable_policy.npz`` beside ``model.zip`` (train.py's layout); returns its path."""
+    """Write ``portable_policy.npz`` beside ``model.zip`` (train.py's layout), with the digest of
+    the files it was made from; returns its path."""
     from .evaluate import load_trained
     model_dir = Path(model_dir)
     sb3 = load_trained(model_dir, portable=False)
     path = model_dir / PORTABLE_FILE
-    np.savez(path, **export_arrays(sb3.model, sb3.obs_rms, sb3.clip_obs, sb3.epsilon))
+    np.savez(path, **export_arrays(sb3.model, sb3.obs_rms, sb3.clip_obs, sb3.epsilon),
+             source_sha256=np.array(source_digest(model_dir)))
     return path
+
+
+def is_current(model_dir: str | Path) -> bool:
+    """True if ``portable_policy.npz`` exists and was exported from the model files there now."""
+    path = Path(model_dir) / PORTABLE_FILE
+    if not path.exists():
+        return False
+    with np.load(path) as data:
+        return "source_sha256" in data.files and str(data["source_sha256"]) == source_digest(model_dir)
 
 
 class PortablePolicy(Policy):

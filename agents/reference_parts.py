@@ -74,7 +74,15 @@ def _tier_settings(tier: str, s: Settings | None) -> Settings:
 
 
 def missing(tier: str, s: Settings | None = None, data_dir: Path = DATA_DIR) -> list[tuple[str, int, int]]:
-    return [p for p in plan(_tier_settings(tier, s)) if not _path(tier, *p, data_dir).exists()]
+    """The parts still to compute: absent, or made by another kernel (they are computed again)."""
+    here = kernel_hash()
+
+    def fresh(path: Path) -> bool:
+        try:
+            return json.loads(path.read_text()).get("kernel_hash") == here
+        except (OSError, ValueError):
+            return False
+    return [p for p in plan(_tier_settings(tier, s)) if not fresh(_path(tier, *p, data_dir))]
 
 
 def _settings(tier: str, s: Settings, preload_n: float) -> dict[str, Any]:

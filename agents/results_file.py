@@ -35,8 +35,10 @@ def protocol_summary() -> dict[str, Any]:
 
 def header(mode: str, command: str, bootstrap_reps: int, poi_reps: int) -> dict[str, Any]:
     """A results.json with no tier yet (``"tiers": {}``): the benchmark, the mode (``"full"``, ``"smoke"``, ...), the
-    command, the protocol and the statistics (what :func:`kept_tiers` compares)."""
-    return {"benchmark": "BearingPreload-v0", "mode": mode,
+    command, the kernel that computed it, the protocol and the statistics (what :func:`kept_tiers` compares)."""
+    from bearing_gym.envs.provenance import kernel_hash, package_version
+    return {"benchmark": "BearingPreload-v0", "mode": mode, "kernel_hash": kernel_hash(),
+            "package_version": package_version(),
             "command": command.strip(), "protocol": protocol_summary(),
             "statistics": {"bootstrap_reps": bootstrap_reps, "poi_reps": poi_reps,
                            "iqm": "rliable.metrics.aggregate_iqm",
@@ -61,10 +63,11 @@ def default_out(smoke: bool, models_given: bool, protocol_size: bool = True) -> 
 def kept_tiers(previous: dict[str, Any], results: dict[str, Any], tiers: list[str]) -> dict[str, Any]:
     """``--keep-other-tiers``: the tiers of an earlier results.json that this run does not
     recompute, each with the command that made it. Refused (ValueError naming what differs) if
-    the earlier file was made for another benchmark or under another protocol, mode or statistics. It does not check which
+    the earlier file was made for another benchmark, by another kernel (its ``kernel_hash``) or under another
+    protocol, mode or statistics. It does not check which
     policies a kept tier ran or whether it kept to the protocol: each kept tier carries its own
     command, ``model_dirs`` and ``protocol_deviations``, and the table prints its command."""
-    for key in ("benchmark", "mode", "protocol", "statistics"):
+    for key in ("benchmark", "kernel_hash", "mode", "protocol", "statistics"):
         if json.loads(json.dumps(previous.get(key))) != json.loads(json.dumps(results[key])):
             raise ValueError(f"the earlier results.json differs in {key!r}: its tiers cannot stand beside this run's; "
                              "run every tier again (without --keep-other-tiers)")

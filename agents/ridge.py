@@ -73,7 +73,12 @@ class RidgeRegression:
         X = np.asarray(X, dtype=np.float64)
         if X.ndim != 2 or X.shape[1] != len(self.x_mean):
             raise ValueError(f"X must be (n, {len(self.x_mean)}), got {X.shape}")
-        return ((X - self.x_mean) / self.x_scale) @ self.coef + self.intercept
+        # a product summed in a fixed order, not BLAS (its kernels, and last bits, vary by CPU)
+        Z = (X - self.x_mean) / self.x_scale
+        out = np.zeros((Z.shape[0], self.coef.shape[1]))
+        for k in range(Z.shape[1]):
+            out = out + Z[:, k:k + 1] * self.coef[k][None, :]
+        return out + self.intercept
 
     def to_json(self) -> dict:
         """The fitted map as JSON types."""

@@ -119,7 +119,7 @@ class StoredReferences:
         if live.shape != stored.shape:
             raise RuntimeError(f"{len(live)} live returns against {len(stored)} stored ones for tier {self.tier}")
         worst = float(np.max(np.abs(live - stored))) if len(live) else 0.0
-        if worst > STALE_TOLERANCE:
+        if not worst <= STALE_TOLERANCE:           # NaN too
             raise RuntimeError(f"the stored test references of tier {self.tier} are stale: the validation constant "
                                f"({self.validation_preload_n:.0f} N) returns differ from the stored ones by up to "
                                f"{worst:.3g} (tolerance {STALE_TOLERANCE:g}); rebuild them with `{rebuild}`")

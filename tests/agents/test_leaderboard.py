@@ -111,6 +111,10 @@ def test_stored_references_reproduce_the_computed_rows_and_refuse_a_stale_store(
     with pytest.raises(RuntimeError, match="stale.*python -m agents.leaderboard --tier transient"):
         leaderboard.run_tier("transient", s, [], out_dir=tmp_path, progress=False, contextual_dir=tmp_path,
                              stored=refs)                     # one ulp off: the kernel is portable
+    refs.validation_constant.returns[1] = np.nan             # a NaN return is no match either
+    with pytest.raises(RuntimeError, match="stale"):
+        leaderboard.run_tier("transient", s, [], out_dir=tmp_path, progress=False, contextual_dir=tmp_path,
+                             stored=refs)
     other = load_references("transient", tmp_path / "refs")
     other.kernel_hash = "0123456789abcdef"                   # made by another kernel
     with pytest.raises(RuntimeError, match="made by kernel 0123456789abcdef.*stale.*agents.leaderboard --tier transient"):
@@ -182,7 +186,7 @@ def test_protocol_sized_is_decided_per_tier_once():
 def test_keep_other_tiers_keeps_only_what_is_not_recomputed_and_only_under_one_protocol():
     from agents.results_file import kept_tiers
     head = {"benchmark": "BearingPreload-v0", "mode": "full", "protocol": {"test": [300000, 309999]},
-            "statistics": {"bootstrap_reps": 50000}}
+            "statistics": {"bootstrap_reps": 50000}, "kernel_hash": "55a0b029d9e058f6"}
     previous = {**head, "command": "python -m agents.leaderboard --tier transient paper",
                 "tiers": {"transient": {"episodes": 100}, "paper": {"episodes": 1, "command": "older"}}}
     now = {**head, "command": "python -m agents.leaderboard --tier stationary paper", "tiers": {}}
@@ -190,6 +194,6 @@ def test_keep_other_tiers_keeps_only_what_is_not_recomputed_and_only_under_one_p
     assert list(kept) == ["transient"]                  # paper is recomputed, so not kept
     assert kept["transient"] == {"episodes": 100, "command": previous["command"]}
     for key, other in (("protocol", {"test": [100000, 109999]}), ("mode", "smoke"),
-                       ("statistics", {"bootstrap_reps": 10})):
+                       ("statistics", {"bootstrap_reps": 10}), ("kernel_hash", None)):   # None: before the portable kernel
         with pytest.raises(ValueError, match=key):
             kept_tiers({**previous, key: other}, now, ["stationary"])

@@ -80,3 +80,21 @@ def test_an_unsupported_policy_is_refused_by_name():
         policy = type("CnnPolicy", (), {})()
     with pytest.raises(ValueError, match="no portable path for CnnPolicy"):
         export_arrays(Fake())
+
+
+def test_an_export_of_other_model_files_is_not_used(tmp_path):
+    import shutil
+
+    from agents.portable_policy import export, is_current
+    d = tmp_path / "ppo"
+    shutil.copytree(PRETRAINED_DIR / "ppo", d)
+    export(d)
+    assert is_current(d)
+    shutil.copy(PRETRAINED_DIR / "sac" / "vec_normalize.pkl", d / "vec_normalize.pkl")   # another run's statistics
+    assert not is_current(d)
+    fresh = load_trained(d, portable=True)               # exported again from the files there now
+    torch_policy = load_trained(d)
+    obs, starts = recorded(torch_policy, steps=4)
+    a, _ = fresh.predict(obs[:1])
+    b, _ = torch_policy.predict(obs[:1])
+    assert float(np.max(np.abs(a - b))) <= TOLERANCE

@@ -59,3 +59,19 @@ def test_parts_merge_to_the_one_go_references_and_a_missing_or_foreign_part_is_r
         part.write_text(json.dumps(d))
         with pytest.raises(ValueError, match=problem):
             RP.merge(tier, SMOKE, tmp_path)
+
+
+def test_a_part_made_by_another_kernel_counts_as_missing(tmp_path):
+    import json
+
+    from agents import reference_parts as rp
+    from agents.leaderboard import SMOKE
+    todo = rp.missing("transient", SMOKE, tmp_path)
+    kind, first, n = todo[0]
+    path = rp._path("transient", kind, first, n, tmp_path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    path.write_text(json.dumps({"kernel_hash": "0123456789abcdef"}))
+    assert (kind, first, n) in rp.missing("transient", SMOKE, tmp_path)
+    from bearing_gym.envs.provenance import kernel_hash
+    path.write_text(json.dumps({"kernel_hash": kernel_hash()}))
+    assert (kind, first, n) not in rp.missing("transient", SMOKE, tmp_path)
