@@ -125,12 +125,15 @@ class RotorState:
     v_prev: np.ndarray            # (N, 2) ball displacements of the previous step (warm start)
     F: np.ndarray = field(default_factory=lambda: np.zeros(5))   # last bearing force
     A_prev2: np.ndarray | None = None   # (5,) acceleration two steps back (None: = A_prev)
+    v_prev2: np.ndarray | None = None   # (N, 2) ball displacements two steps back (None: = v_prev)
+    eta: float = 0.0              # last measured theta/(1-theta) of the Newmark iteration (0: none)
 
     def copy(self) -> "RotorState":
         return RotorState(self.X.copy(), self.V.copy(), self.A.copy(), self.t, self.shaft_angle,
                           self.cage_angle, self.cage_speed, self.psi_b.copy(), self.balls.copy(),
                           self.A_prev.copy(), self.v_prev.copy(), self.F.copy(),
-                          None if self.A_prev2 is None else self.A_prev2.copy())
+                          None if self.A_prev2 is None else self.A_prev2.copy(),
+                          None if self.v_prev2 is None else self.v_prev2.copy(), self.eta)
 
 
 # ---------------------------------------------------------------------------------------------
@@ -590,7 +593,9 @@ class NumpyModel:
         st.psi_b += st.balls.omega_b * dt
         # ball Newton warm starts: linear extrapolation of each ball's last two solutions
         v_now = st.balls.v.copy()
-        st.balls.v[:] = 2.0 * v_now - st.v_prev
+        v_prev2 = st.v_prev if st.v_prev2 is None else st.v_prev2
+        st.balls.v[:] = 3.0 * v_now - 3.0 * st.v_prev + v_prev2     # quadratic in the last three
+        st.v_prev2 = st.v_prev
         st.v_prev = v_now
         S, CG = self.system_matrix()
         v_pred = st.V + (1.0 - gam) * dt * st.A
@@ -601,7 +606,11 @@ class NumpyModel:
         st.A_prev = st.A.copy()
         X_new = x_base + beta * dt * dt * a_guess
         rhs0 = self.external_force(st.shaft_angle) - CG @ v_pred
-        for _ in range(self.nm_maxit):
+        # a-posteriori stop (Hairer & Wanner IV.8): accept when eta |dX| < tol, eta = theta/(1-theta)
+        # of the observed contraction theta; the first pass uses max(eta_old, eps)^0.8
+        eta = 1.0 if st.eta <= 0.0 else max(st.eta, np.finfo(float).eps) ** 0.8
+        change_prev = 0.0
+        for it in range(self.nm_maxit):
             self.counters["newmark_iters"] += 1
             F, status = self.bearing_force(X_new, st.cage_angle, st.shaft_angle, st.psi_b,
                                            st.balls)
@@ -612,7 +621,12 @@ class NumpyModel:
             x_next = x_base + beta * dt * dt * a_new
             change = np.max(np.abs(x_next - X_new) * self.dof_scale)
             X_new = x_next
-            if change < self.nm_tol:
+            if it > 0 and change_prev > 0.0:
+                theta = min(change / change_prev, 0.99)
+                eta = theta / (1.0 - theta)
+            change_prev = change
+            if eta * change < self.nm_tol:
+                st.eta = eta
                 break
         else:
             return NEWMARK_NOT_CONVERGED
@@ -674,7 +688,9 @@ def state_from_simulator(s) -> RotorState:
                       ball_state_from_arrays(s.ball_v, s.ball_out),
                       s.scal[R.S_A_PREV:R.S_A_PREV + 5].copy(),
                       s.ball_out[:, [B.B_VR_PREV, B.B_VZ_PREV]].copy(),
-                      A_prev2=s.scal[R.S_A_PREV2:R.S_A_PREV2 + 5].copy())
+                      A_prev2=s.scal[R.S_A_PREV2:R.S_A_PREV2 + 5].copy(),
+                      v_prev2=s.ball_out[:, [B.B_VR_PREV2, B.B_VZ_PREV2]].copy(),
+                      eta=float(s.scal[R.S_ETA]))
 
 
 def state_to_simulator(st: RotorState, like):
@@ -688,9 +704,13 @@ def state_to_simulator(st: RotorState, like):
     out.psi_b[:] = st.psi_b
     out.scal[R.S_A_PREV:R.S_A_PREV + 5] = st.A_prev
     out.scal[R.S_A_PREV2:R.S_A_PREV2 + 5] = st.A_prev if st.A_prev2 is None else st.A_prev2
+    out.scal[R.S_ETA] = st.eta
     out.ball_v[:] = st.balls.v
     out.ball_out[:, B.B_VR_PREV] = st.v_prev[:, 0]
     out.ball_out[:, B.B_VZ_PREV] = st.v_prev[:, 1]
+    v_prev2 = st.v_prev if st.v_prev2 is None else st.v_prev2
+    out.ball_out[:, B.B_VR_PREV2] = v_prev2[:, 0]
+    out.ball_out[:, B.B_VZ_PREV2] = v_prev2[:, 1]
     for name, col in _BALL_COLUMNS.items():
         out.ball_out[:, getattr(B, col)] = getattr(st.balls, name)
     out.ball_out[:, B.B_CTRL] = st.balls.inner_control.astype(float)

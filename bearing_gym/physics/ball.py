@@ -57,7 +57,9 @@ B_LAMI = 12   # effective race-control factor lambda_i of eq 32 (friction on the
 B_NITER = 13  # Newton iterations used, accumulated over solves (diagnostics; reset by the caller)
 B_VR_PREV = 14  # v_r at the previous time step (warm-start extrapolation in rotor.integrate)
 B_VZ_PREV = 15  # v_z at the previous time step
-N_BALL_OUT = 16
+B_VR_PREV2 = 16  # v_r two time steps back (the warm start is extrapolated quadratically)
+B_VZ_PREV2 = 17  # v_z two time steps back
+N_BALL_OUT = 18
 
 FRICTION_ONSET_M = 1.0e-7
 

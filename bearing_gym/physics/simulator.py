@@ -10,7 +10,7 @@ from bearing_gym.params import BearingParams
 from bearing_gym.units import rad_s_to_rpm, rpm_to_rad_s
 from bearing_gym.validation import check_real
 
-from .ball import B_CTRL, B_VR_PREV, B_VZ_PREV, N_BALL_OUT
+from .ball import B_CTRL, B_VR_PREV, B_VR_PREV2, B_VZ_PREV, B_VZ_PREV2, N_BALL_OUT
 from .bearing import bearing_force, cage_speed
 from .equilibrium import static_equilibrium
 from .layout import (CONTROL_INNER, I_CONTROL, I_CTX, I_CX, I_DT, I_IR, I_MASS, I_OMEGA, I_PHI0,
@@ -166,6 +166,8 @@ class Simulator:
             raise SimulationError(f"initial bearing force failed: {status_text(st)}", None)
         s.ball_out[:, B_VR_PREV] = s.ball_v[:, 0]     # at rest: no extrapolation on step 1
         s.ball_out[:, B_VZ_PREV] = s.ball_v[:, 1]
+        s.ball_out[:, B_VR_PREV2] = s.ball_v[:, 0]
+        s.ball_out[:, B_VZ_PREV2] = s.ball_v[:, 1]
         omega = prm[I_OMEGA]
         s.scal[S_CAGE_SPEED] = cage_speed(s.ball_out, s.psi_b.shape[0], eq.cage_speed_ratio * omega)
         solve_acceleration(F, _zero_gamma(prm), 1.0, 0.0, s.V, s.A)   # shaft angle 0
