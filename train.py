@@ -12,7 +12,7 @@ same --val-episodes scenarios, one per eval env, seeds from --val-seed, distinct
 seeds; the best checkpoint and its VecNormalize statistics are kept there, and every
 validation's per-episode returns in validation_returns.npz for the learning curves),
 last_model.zip and last_vec_normalize.pkl (the final weights), and leaderboard.md/.json
-(agents.after_training: this run, the shipped policies and every reference on the first
+(agents.training.after_training: this run, the shipped policies and every reference on the first
 --eval-episodes test seeds, normalised scores). model.zip is the best validation checkpoint
 (--select best, the default) or the final weights (--select last).
 
@@ -33,8 +33,7 @@ import sys
 import time
 from pathlib import Path
 
-from agents.protocol import (STEP_BUDGET_PER_RUN, TEST, VALIDATION, VALIDATION_EPISODES_IN_TRAINING,
-                             VALIDATION_EVERY_STEPS)
+from agents.protocol import STEP_BUDGET_PER_RUN, TEST, VALIDATION, VALIDATION_EPISODES_IN_TRAINING, VALIDATION_EVERY_STEPS
 from bearing_gym.benchmark import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
 
 PROGRESS_EVERY_S = 30.0     # at most one progress line per this many seconds
@@ -157,7 +156,7 @@ def main(argv: list[str] | None = None) -> int:
                          f"one per core unless NUMBA_NUM_THREADS says otherwise), got {args.threads}")
     if args.val_episodes < 1:
         raise SystemExit("train.py: --val-episodes must be >= 1")
-    from agents.evaluate import TEST_SEED
+    from agents.evaluation.episodes import TEST_SEED
     n_val_envs = args.val_episodes      # one episode per env: env i runs the scenario of val_seed + i
     if args.val_seed < TEST_SEED + max(args.eval_episodes, 1) and TEST_SEED < args.val_seed + n_val_envs:
         raise SystemExit(f"train.py: --val-seed {args.val_seed} overlaps the held-out test seeds "
@@ -167,8 +166,7 @@ def main(argv: list[str] | None = None) -> int:
     from stable_baselines3.common.callbacks import CallbackList, CheckpointCallback
     from stable_baselines3.common.vec_env import VecNormalize
 
-    from agents.callbacks import (BEST_INFO, BEST_MODEL, BEST_VECNORMALIZE, ProgressBar, ProgressLines,
-                                  ValidationCallback, planned_timesteps)
+    from agents.training.callbacks import BEST_INFO, BEST_MODEL, BEST_VECNORMALIZE, ProgressBar, ProgressLines, ValidationCallback, planned_timesteps
 
     torch.set_num_threads(1)          # the environment kernel uses the cores
     out = Path(args.out)
@@ -269,7 +267,7 @@ def main(argv: list[str] | None = None) -> int:
     print(f"trained {model.num_timesteps:,} steps in {train_s / 60:.1f} min -> {out} "
           f"(model.zip: {selected['selected']}, {selected['selected_timesteps']:,} steps)")
     if args.eval_episodes > 0:
-        from agents.after_training import evaluate_run
+        from agents.training.after_training import evaluate_run
         print(f"evaluating {out / 'model.zip'}, the shipped policies and the references on {args.eval_episodes} "
               f"held-out scenarios (seeds {TEST_SEED}..{TEST_SEED + args.eval_episodes - 1})", flush=True)
         evaluate_run(out, episodes=args.eval_episodes, tier=args.tier, episode_steps=args.episode_steps,

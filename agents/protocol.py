@@ -8,8 +8,8 @@ Every env seed a script uses comes from one of these disjoint ranges (``check_di
   draw from the envs' own generators) and the scenarios the contextual baseline is fitted on
   (``CONTEXTUAL_FIT_SEED``, a block of its own inside TRAIN);
 * ``VALIDATION``: checkpoint selection and every choice made while developing (hyperparameters,
-  the best constant preload of :mod:`agents.references`);
-* ``TIER_DESIGN``: measurements that shaped the benchmark itself (``agents.tier_gap``: does a
+  the best constant preload of :mod:`agents.references.validation`);
+* ``TIER_DESIGN``: measurements that shaped the benchmark itself (``agents.references.tier_gap``: does a
   tier need closed-loop control?);
 * ``TEST``: the held-out evaluation of the leaderboard; fresh, never used while developing.
   (The earlier test range, 100000+, was looked at during development and is retired:
@@ -27,6 +27,7 @@ from __future__ import annotations
 
 import math
 from typing import Any
+
 
 __all__ = ["TRAIN", "VALIDATION", "TIER_DESIGN", "TEST", "RETIRED", "RANGES", "check_disjoint",
            "range_of", "TEST_EPISODES", "MPC_EPISODES", "VALIDATION_CONSTANT_EPISODES",
@@ -50,7 +51,7 @@ RANGES = {"train": TRAIN, "validation": VALIDATION, "retired": RETIRED, "tier_de
 #: Test episodes per tier (seeds TEST.start .. TEST.start + TEST_EPISODES - 1), every policy and
 #: reference on the same scenarios.
 TEST_EPISODES = 100
-#: The MPC reference (agents.mpc, about 20 simulated intervals per real one) runs on the first
+#: The MPC reference (agents.policies.mpc, about 20 simulated intervals per real one) runs on the first
 #: MPC_EPISODES test scenarios only; elsewhere the upper reference is the hindsight constant.
 MPC_EPISODES = 20
 #: Validation episodes on which the best constant preload is chosen (seeds VALIDATION.start on).

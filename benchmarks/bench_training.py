@@ -9,7 +9,9 @@
 
 Every measurement runs in a fresh interpreter (``--worker``) with the measured tree first on
 ``sys.path`` (``PYTHONPATH=TREE``, cwd TREE). The worker uses only ``train.make_env``,
-``train.hyperparams`` and ``agents.evaluate``, so ``--baseline DIR`` can be any checkout (e.g.
+``train.hyperparams`` and the evaluation (``agents.leaderboard.compare`` and
+``agents.evaluation.episodes``, or ``agents.evaluate`` in a checkout from before the agents
+subpackages), so ``--baseline DIR`` can be any checkout (e.g.
 ``git worktree add ../base <commit>``) without this file: its measurements run from this
 script, alternately with the current tree's (the order swapped every repeat), each tree with its
 own numba cache (``--baseline-cache``, default ``DIR/.numba-cache``), and the best of
@@ -30,7 +32,7 @@ Measured (the current tree's best run; with a baseline also ``<key>_baseline`` a
     (PPO rounds up to whole rollouts of 512). train.py's validation and checkpoint callbacks are
     not run (validation is an evaluation: see the next key).
 ``eval_episodes_per_s``, ``eval_wall_s_per_100_episodes``
-    ``agents.evaluate.evaluate(None, episodes=--eval-episodes)`` on the held-out test seeds: the
+    ``agents.leaderboard.compare.evaluate(None, episodes=--eval-episodes)`` on the held-out test seeds: the
     scripted baselines and the constant-preload sweep (11 policies x K episodes of
     EPISODE_STEPS steps, batched through the native vector env), report files written to a
     temporary directory; episodes = policies x K, counted at ``run_policies``. After a warm-up
@@ -351,8 +353,13 @@ def _train_measurement(spec: dict) -> dict:
 
 
 def _eval_measurement(spec: dict) -> dict:
-    import agents.evaluate as ev
-    from agents.policies import ConstantPreload
+    try:                                # the loop (agents.evaluation.episodes) apart from the report
+        from agents.evaluation import episodes as loop
+        from agents.leaderboard import compare as ev
+    except ImportError:                 # a baseline checkout of the flat agents/: agents.evaluate held both
+        import agents.evaluate as ev
+        loop = ev
+    from agents import ConstantPreload        # in both layouts (the flat agents/ too)
     from bearing_gym.benchmark import EPISODE_STEPS
 
     episode_steps = spec["eval_episode_steps"] or EPISODE_STEPS
@@ -372,7 +379,7 @@ def _eval_measurement(spec: dict) -> dict:
             counted["episodes"] += len(policies) * episodes
             counted["run_policies_s"] += time.perf_counter() - t
 
-    ev.run_policies = counting
+    ev.run_policies = loop.run_policies = counting     # the policies' batch and the constant sweep's
     load_start = os.getloadavg()[0]
     with tempfile.TemporaryDirectory(prefix="bench_training_eval_") as out:
         t0 = time.perf_counter()

@@ -7,6 +7,13 @@ Layers, lowest first (a module may import its own layer and those below):
     < physics < analysis < envs < reproduction < cli (and ``python -m bearing_gym``)
 
 Nothing in bearing_gym imports ``agents``, ``train`` or ``benchmarks``, which sit above it.
+
+``agents`` (the ``rl`` extra) has layers of its own, lowest first:
+
+    paths, protocol < policies < evaluation < references < leaderboard (and the
+    ``agents.evaluate`` alias) < training < the package's __init__
+
+and may import any of bearing_gym, never ``train`` or ``benchmarks``.
 Every import statement counts, at module level or inside a function (a deferred import is
 still a dependency). Read with the standard library's ``ast``: nothing is imported to check.
 """
@@ -18,6 +25,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
 PACKAGE = ROOT / "bearing_gym"
+AGENTS = ROOT / "agents"
 
 LAYERS = (
     ("base", ("bearing_gym._numba_cache", "bearing_gym.validation", "bearing_gym.units",
@@ -26,10 +34,21 @@ LAYERS = (
     ("physics", ("bearing_gym.physics",)),
     ("analysis", ("bearing_gym.analysis",)),
     ("envs", ("bearing_gym.envs",)),
-    ("reproduction", ("bearing_gym.reproduction", "bearing_gym.reproduce")),
+    ("reproduction", ("bearing_gym.reproduction",)),
     ("cli", ("bearing_gym.cli", "bearing_gym.__main__")),
 )
 OUTSIDE = ("agents", "train", "benchmarks")
+AGENT_LAYERS = (
+    ("base", ("agents.paths", "agents.protocol")),
+    ("policies", ("agents.policies",)),
+    ("evaluation", ("agents.evaluation",)),
+    ("references", ("agents.references",)),
+    ("leaderboard", ("agents.leaderboard", "agents.evaluate")),
+    ("training", ("agents.training",)),
+    ("api", ("agents",)),
+)
+#: a package of more modules than this is a flat room that wants subpackages
+MAX_MODULES_PER_PACKAGE = 20
 
 
 def _module_name(path: Path) -> str:
@@ -40,12 +59,13 @@ def _module_name(path: Path) -> str:
 
 
 MODULES = {_module_name(p): p for p in sorted(PACKAGE.rglob("*.py"))}
+AGENT_MODULES = {_module_name(p): p for p in sorted(AGENTS.rglob("*.py"))}
 
 
-def _layer(module: str) -> int:
+def _layer(module: str, layers=LAYERS) -> int:
     """Index of the layer of ``module``: the longest matching prefix decides."""
     best, rank = -1, None
-    for k, (_, prefixes) in enumerate(LAYERS):
+    for k, (_, prefixes) in enumerate(layers):
         for prefix in prefixes:
             if (module == prefix or module.startswith(prefix + ".")) and len(prefix) > best:
                 best, rank = len(prefix), k
@@ -54,9 +74,9 @@ def _layer(module: str) -> int:
     return rank
 
 
-def _resolve(name: str) -> str:
-    """The bearing_gym module an imported name lives in (a submodule if one exists)."""
-    while name and name not in MODULES:
+def _resolve(name: str, modules=MODULES) -> str:
+    """The module of ``modules`` an imported name lives in (a submodule if one exists)."""
+    while name and name not in modules:
         name = name.rpartition(".")[0]
     return name
 
@@ -97,6 +117,25 @@ def _graph() -> dict[str, set[str]]:
 
 
 GRAPH = _graph()
+
+
+def _agent_graph() -> dict[str, set[str]]:
+    graph = {}
+    for module, path in AGENT_MODULES.items():
+        deps = set()
+        for name in _imports(module, path):
+            top = name.split(".")[0]
+            if top in ("train", "benchmarks"):
+                deps.add(name)
+            elif top == "agents" and name != "agents":     # `from agents import x`: x decides
+                target = _resolve(name, AGENT_MODULES)
+                if target and target != module:
+                    deps.add(target)
+        graph[module] = deps
+    return graph
+
+
+AGENT_GRAPH = _agent_graph()
 
 
 def test_every_module_has_a_layer():
@@ -177,3 +216,40 @@ def test_the_checks_see_a_deferred_upward_import(tmp_path):
     src.write_text("def f():\n    from bearing_gym.physics.layout import pack_params\n")
     assert "bearing_gym.physics.layout" in _imports("bearing_gym.params", src)
     assert _layer("bearing_gym.physics.layout") > _layer("bearing_gym.params")
+
+
+def test_every_agents_module_has_a_layer():
+    for module in AGENT_MODULES:
+        _layer(module, AGENT_LAYERS)
+
+
+def test_agents_import_neither_train_nor_benchmarks():
+    bad = {m: sorted(d for d in deps if d.split(".")[0] in ("train", "benchmarks")) for m, deps in AGENT_GRAPH.items()}
+    assert {m: d for m, d in bad.items() if d} == {}
+
+
+def test_no_import_in_agents_points_up_a_layer():
+    upward = [f"{m} ({AGENT_LAYERS[_layer(m, AGENT_LAYERS)][0]}) imports {d} ({AGENT_LAYERS[_layer(d, AGENT_LAYERS)][0]})"
+              for m, deps in AGENT_GRAPH.items() for d in deps
+              if d.startswith("agents") and _layer(d, AGENT_LAYERS) > _layer(m, AGENT_LAYERS)]
+    assert upward == []
+
+
+def test_no_import_cycle_in_agents():
+    assert _cycles(AGENT_GRAPH) == []
+
+
+def test_the_agents_layering_sees_an_upward_import(tmp_path):
+    """A policy importing the leaderboard would be found (the contextual constant once imported
+    the evaluation loop to fit itself)."""
+    src = tmp_path / "m.py"
+    src.write_text("def fit():\n    from agents.leaderboard.scoring import iqm\n")
+    assert "agents.leaderboard.scoring" in _imports("agents.policies.contextual", src)
+    assert _layer("agents.leaderboard.scoring", AGENT_LAYERS) > _layer("agents.policies.contextual", AGENT_LAYERS)
+
+
+@pytest.mark.parametrize("root", [PACKAGE, AGENTS])
+def test_no_package_is_a_flat_room_of_more_than_twenty_modules(root):
+    crowded = {str(d.relative_to(ROOT)): n for d in [root, *root.rglob("*")] if d.is_dir()
+               and (n := len([p for p in d.glob("*.py") if p.name not in ("__init__.py", "__main__.py")])) > MAX_MODULES_PER_PACKAGE}
+    assert crowded == {}

@@ -127,7 +127,7 @@ def config_defaults(cfg: dict, command: str, subs: dict[str, argparse.ArgumentPa
 
 
 def reproduce_config_args(cfg: dict) -> list[str]:
-    """The [reproduce] table as command-line options of bearing_gym.reproduce."""
+    """The [reproduce] table as command-line options of bearing_gym.reproduction."""
     table = cfg.get("reproduce", {})
     if not isinstance(table, dict):
         raise CLIError("--config: [reproduce] must be a table of options")

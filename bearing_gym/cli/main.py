@@ -12,7 +12,7 @@ Subcommands (``bearing-gym COMMAND --help`` lists every option with its unit and
 * ``sweep``        stability map over preloads x speeds x radial loads x clearances, written
                    to a CSV file; a rerun with the same ``--out`` reuses the finished points;
                    tasks run on a local process pool or on Ray (``--backend ray --address``);
-* ``reproduce``    the reproduction of Bai & Xu (2006) (``python -m bearing_gym.reproduce``;
+* ``reproduce``    the reproduction of Bai & Xu (2006) (``python -m bearing_gym.reproduction``;
                    its options are passed through).
 
 Every subcommand takes ``--config FILE`` (TOML or YAML; keys are the long option names with
@@ -21,7 +21,7 @@ applies to that subcommand only; options given on the command line win) and ``-q
 (print nothing but errors). Bad values exit with status 2 and a one-line message on stderr
 naming the option and its allowed range.
 
-Playing a policy in the environment is ``python -m agents.watch`` (console script
+Playing a policy in the environment is ``python -m agents.evaluation.watch`` (console script
 ``bearing-gym-watch``): the agents sit above this package, which does not import them.
 
 Modules: :mod:`.main` (entry point), :mod:`.parser`, :mod:`.options` (option <-> parameter),

@@ -226,8 +226,8 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.Argument
     subs["sweep"] = p
 
     p = sub.add_parser("reproduce", add_help=False, allow_abbrev=False,
-                       help="reproduce Bai & Xu (2006) (options of python -m bearing_gym.reproduce)",
-                       description="Run python -m bearing_gym.reproduce; every option other than "
+                       help="reproduce Bai & Xu (2006) (options of python -m bearing_gym.reproduction)",
+                       description="Run python -m bearing_gym.reproduction; every option other than "
                                    "--config and --quiet is passed through (see "
                                    "'bearing-gym reproduce --help'). The config file's "
                                    "[reproduce] table is turned into options.")

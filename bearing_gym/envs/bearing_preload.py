@@ -13,14 +13,13 @@ from gymnasium import spaces
 
 from bearing_gym.params import BearingParams
 
-from .common import (DEFAULTS, check_actions, configure, measurement, observe, reset_envs,
-                     reset_info, step_outputs)
-from .rendering import FRAME_DPI, FRAME_SIZE_IN, draw_frame, record_interval, rgb_frame
+from .composition import DEFAULTS, PreloadTask, TaskParts, check_actions
+from .rendering import HumanWindow, draw_frame, latest_frame_path, record_interval, rgb_frame
 
 __all__ = ["BearingPreloadEnv", "latest_frame_path"]
 
 
-class BearingPreloadEnv(gym.Env):
+class BearingPreloadEnv(TaskParts, gym.Env):
     """
     ## Description
 
@@ -169,15 +168,13 @@ class BearingPreloadEnv(gym.Env):
                  render_mode: str | None = None, render_dir: str | os.PathLike | None = None):
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode must be None or one of {self.metadata['render_modes']}, got {render_mode!r}")
-        configure(self, tier, scenario, actuator, observation, reward, params, control_dt_s,
-                  episode_steps, num_envs=1)
+        self.task = PreloadTask.build(tier, scenario, actuator, observation, reward, params, control_dt_s,
+                                      episode_steps, num_envs=1)
         self.action_space = spaces.Box(-1.0, 1.0, shape=(1,), dtype=np.float32)
         self.observation_space = self.observation_model.space
         self.render_mode = render_mode
         self.render_dir = None if render_dir is None else Path(render_dir)
-        self._window: Any = None          # the pyplot figure of render_mode="human"
-        self._window_state = "unopened"   # then "open", "closed" (by the user) or "none"
-        self._frames = 0
+        self._window: HumanWindow | None = None      # render_mode="human", made on the first frame
         self._history: deque = deque(maxlen=500)
         self._poincare: deque = deque(maxlen=2000)
         self._idx = np.array([0])
@@ -197,29 +194,25 @@ class BearingPreloadEnv(gym.Env):
     # ------------------------------------------------------------------------------------------
     def reset(self, *, seed: int | None = None, options: dict | None = None):
         super().reset(seed=seed)
-        self.scenario = reset_envs(self, self._idx, [self.np_random], options)[0]
+        self.scenario = self.task.reset(self._idx, [self.np_random], options)[0]
         self._steps = 0
         self._history.clear()
         self._poincare.clear()
-        b = self.batch
-        m = measurement(b, self._idx, b.preload[self._idx].copy(), np.array([self.episode_steps]),
-                        b.start_failed[self._idx].copy())
-        obs = observe(self, m, self._idx, [self.np_random])
-        info = reset_info(b, 0, m, 0)
+        obs, infos = self.task.reset_outputs(self._idx, [self.np_random])
         if self.render_mode == "human":
             self._render_human()
-        return obs[0], info
+        return obs[0], infos[0]
 
     def step(self, action):
         if self.scenario is None:
             raise RuntimeError("call reset() before step()")
-        a = check_actions(action, 1)
+        a = check_actions(action, 1, single=True)
         b = self.batch
         before = b.preload[self._idx].copy()
         b.step(self.actuator.setpoint_n(a), self._active)
         self._steps += 1
         steps_left = np.array([max(self.episode_steps - self._steps, 0)])
-        obs, reward, terminated, infos = step_outputs(self, self._idx, before, steps_left, [self.np_random])
+        obs, reward, terminated, infos = self.task.step_outputs(self._idx, before, steps_left, [self.np_random])
         if self.render_mode is not None:
             self._remember()
         if self.render_mode == "human":
@@ -244,41 +237,9 @@ class BearingPreloadEnv(gym.Env):
     # ------------------------------------------------------------------------------------------
     def _render_human(self) -> None:
         """Draw the frame in the window, and/or save it as PNG (see *Rendering*)."""
-        if self._window_state == "unopened":
-            self._window = _open_window()
-            self._window_state = "open" if self._window is not None else "none"
-            if self._window is None and self.render_dir is None:
-                gym.logger.warn(f"render_mode='human': no interactive matplotlib backend (no "
-                                f"display?); writing the latest frame to {latest_frame_path()} "
-                                "(pass render_dir=... to keep every frame)")
-        title = self._title()
-        if self._window_state == "open":
-            import matplotlib.pyplot as plt
-            if not plt.fignum_exists(self._window.number):       # closed by the user
-                self._window, self._window_state = None, "closed"
-            else:
-                self._window.clf()
-                self._draw(self._window)
-                self._window.suptitle(title, fontsize=8)
-                self._window.tight_layout()
-                self._window.canvas.draw_idle()
-                plt.pause(1.0 / self.metadata["render_fps"])
-        if self.render_dir is None and self._window_state != "none":
-            return
-        from matplotlib.figure import Figure
-
-        fig = Figure(figsize=(FRAME_SIZE_IN[0], FRAME_SIZE_IN[1] + 0.3), dpi=FRAME_DPI)   # + title
-        self._draw(fig)
-        fig.suptitle(title, fontsize=8)
-        fig.tight_layout()
-        if self.render_dir is not None:
-            self.render_dir.mkdir(parents=True, exist_ok=True)
-            path = self.render_dir / f"frame_{self._frames:05d}.png"
-        else:
-            path = latest_frame_path()
-            path.parent.mkdir(parents=True, exist_ok=True)
-        fig.savefig(path)
-        self._frames += 1
+        if self._window is None:
+            self._window = HumanWindow(self.render_dir, self.metadata["render_fps"], warn=gym.logger.warn)
+        self._window.show(self._draw, self._title())
 
     def _title(self) -> str:
         if not self._history:
@@ -292,45 +253,11 @@ class BearingPreloadEnv(gym.Env):
         """Where ``render_mode="human"`` draws, once the first frame is out: ``"window"``, the
         frames folder (``render_dir``), the latest-frame PNG (headless, no ``render_dir``), or
         None (not human mode, nothing drawn yet, or the window was closed)."""
-        if self.render_mode != "human" or self._window_state in ("unopened", "closed"):
+        if self.render_mode != "human" or self._window is None:
             return None
-        if self._window_state == "open":
-            return "window"
-        return str(self.render_dir) if self.render_dir is not None else str(latest_frame_path())
+        return self._window.target
 
     def close(self) -> None:
         if self._window is not None:
-            import matplotlib.pyplot as plt
-            plt.close(self._window)
-            self._window = None
+            self._window.close()
         super().close()
-
-
-def latest_frame_path() -> Path:
-    import tempfile
-    # not <tmp>/bearing_gym: a folder of the package's name would shadow the package for any
-    # script run from the temp dir
-    return Path(tempfile.gettempdir()) / "bearing_gym_frames" / "latest.png"
-
-
-def _open_window():
-    """A pyplot figure in the user's matplotlib backend if that backend is interactive, else
-    None (headless). Neither picks a backend nor switches interactive mode on: the window is
-    shown with ``show(block=False)`` and updated by ``pause``, whatever the user's settings."""
-    try:
-        import matplotlib
-        import matplotlib.pyplot as plt
-        backend = matplotlib.get_backend().lower()
-        try:
-            from matplotlib.backends import BackendFilter, backend_registry
-            interactive = backend_registry.list_builtin(BackendFilter.INTERACTIVE)
-        except ImportError:                      # matplotlib < 3.9
-            from matplotlib import rcsetup
-            interactive = rcsetup.interactive_bk
-        if backend not in {b.lower() for b in interactive}:
-            return None
-        fig = plt.figure("BearingPreload-v0", figsize=(FRAME_SIZE_IN[0], FRAME_SIZE_IN[1] + 0.3))
-        plt.show(block=False)
-        return fig
-    except Exception:  # noqa: BLE001 - e.g. a GUI backend named in MPLBACKEND without a display
-        return None

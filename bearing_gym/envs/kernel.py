@@ -4,7 +4,7 @@
 ``prange`` loop: every actuator update interval it sets the operating point (shaft speed ramp,
 radial-load step) from the scenario schedule, moves the preload by the actuator dynamics, and
 runs the Newmark integrator (:func:`bearing_gym.physics.rotor.integrate`); at the end it
-computes the window features (:func:`bearing_gym.analysis.window.window_features`).
+computes the window features (:func:`bearing_gym.envs.features.window_features`).
 
 Schedule row (``Scenario.schedule_array``): the number of speed knots, then (t, omega) pairs
 (``MAX_EVENTS`` slots), then the number of load steps, then (t, F_x, F_y) triples.

@@ -4,18 +4,21 @@ What a frame shows is decided here once: :func:`record_interval` remembers what 
 control interval adds to its frame (orbit, Poincare points, preload trace), :func:`draw_frame`
 draws the three panels on a matplotlib ``Figure`` and :func:`rgb_frame` renders them to an
 RGB array. None of them touches pyplot or the process's matplotlib backend: a ``Figure`` with
-an Agg canvas draws off-screen whatever backend the user chose.
+an Agg canvas draws off-screen whatever backend the user chose. :class:`HumanWindow` is
+``render_mode="human"``: a pyplot window if the user's backend is interactive, else PNG frames.
 """
 
 from __future__ import annotations
 
 import math
 from collections import deque
+from pathlib import Path
+from typing import Any, Callable
 
 import numpy as np
 
 __all__ = ["HISTORY_LENGTH", "POINCARE_LENGTH", "FRAME_SIZE_IN", "FRAME_DPI",
-           "record_interval", "draw_frame", "rgb_frame"]
+           "record_interval", "draw_frame", "rgb_frame", "HumanWindow", "latest_frame_path", "open_window"]
 
 HISTORY_LENGTH = 500      # control intervals in the preload panel
 POINCARE_LENGTH = 2000    # points in the Poincare panel
@@ -99,3 +102,103 @@ def rgb_frame(orbit: np.ndarray | None, poincare, history) -> np.ndarray:
     draw_frame(fig, orbit, poincare, history)
     canvas.draw()
     return np.asarray(canvas.buffer_rgba())[:, :, :3].copy()
+
+
+def latest_frame_path() -> Path:
+    """Where headless human rendering without ``render_dir`` keeps the latest frame."""
+    import tempfile
+    # not <tmp>/bearing_gym: a folder of the package's name would shadow the package for any
+    # script run from the temp dir
+    return Path(tempfile.gettempdir()) / "bearing_gym_frames" / "latest.png"
+
+
+def open_window():
+    """A pyplot figure in the user's matplotlib backend if that backend is interactive, else
+    None (headless). Neither picks a backend nor switches interactive mode on: the window is
+    shown with ``show(block=False)`` and updated by ``pause``, whatever the user's settings."""
+    try:
+        import matplotlib
+        import matplotlib.pyplot as plt
+        backend = matplotlib.get_backend().lower()
+        try:
+            from matplotlib.backends import BackendFilter, backend_registry
+            interactive = backend_registry.list_builtin(BackendFilter.INTERACTIVE)
+        except ImportError:                      # matplotlib < 3.9
+            from matplotlib import rcsetup
+            interactive = rcsetup.interactive_bk
+        if backend not in {b.lower() for b in interactive}:
+            return None
+        fig = plt.figure("BearingPreload-v0", figsize=(FRAME_SIZE_IN[0], FRAME_SIZE_IN[1] + 0.3))
+        plt.show(block=False)
+        return fig
+    except Exception:  # noqa: BLE001 - e.g. a GUI backend named in MPLBACKEND without a display
+        return None
+
+
+class HumanWindow:
+    """``render_mode="human"``: the frame in a window (:func:`open_window`) while the user keeps
+    it open, and/or as PNG files: every frame into ``render_dir`` if given, else - headless
+    only - the latest one at :func:`latest_frame_path`. ``state`` is "unopened", then "open",
+    "closed" (by the user) or "none" (no interactive backend)."""
+
+    def __init__(self, render_dir: Path | None, fps: float, opener: Callable[[], Any] | None = None,
+                 warn: Callable[[str], None] | None = None):
+        self.render_dir = render_dir
+        self.fps = fps
+        self.figure: Any = None
+        self.state = "unopened"
+        self.frames = 0
+        self._opener = opener
+        self._warn = warn
+
+    def show(self, draw: Callable[[Any], None], title: str) -> None:
+        """Draw a frame (``draw(fig)`` puts the panels on a figure) with ``title``."""
+        if self.state == "unopened":
+            self.figure = (self._opener or open_window)()      # looked up now: tests replace it
+            self.state = "open" if self.figure is not None else "none"
+            if self.figure is None and self.render_dir is None and self._warn is not None:
+                self._warn(f"render_mode='human': no interactive matplotlib backend (no display?); writing the "
+                           f"latest frame to {latest_frame_path()} (pass render_dir=... to keep every frame)")
+        if self.state == "open":
+            import matplotlib.pyplot as plt
+            if not plt.fignum_exists(self.figure.number):       # closed by the user
+                self.figure, self.state = None, "closed"
+            else:
+                self.figure.clf()
+                draw(self.figure)
+                self.figure.suptitle(title, fontsize=8)
+                self.figure.tight_layout()
+                self.figure.canvas.draw_idle()
+                plt.pause(1.0 / self.fps)
+        if self.render_dir is None and self.state != "none":
+            return
+        from matplotlib.figure import Figure
+
+        fig = Figure(figsize=(FRAME_SIZE_IN[0], FRAME_SIZE_IN[1] + 0.3), dpi=FRAME_DPI)   # + title
+        draw(fig)
+        fig.suptitle(title, fontsize=8)
+        fig.tight_layout()
+        if self.render_dir is not None:
+            self.render_dir.mkdir(parents=True, exist_ok=True)
+            path = self.render_dir / f"frame_{self.frames:05d}.png"
+        else:
+            path = latest_frame_path()
+            path.parent.mkdir(parents=True, exist_ok=True)
+        fig.savefig(path)
+        self.frames += 1
+
+    @property
+    def target(self) -> str | None:
+        """Where frames go once the first is out: "window", the frames folder, the latest-frame
+        PNG, or None (nothing drawn yet, or the window was closed)."""
+        if self.state in ("unopened", "closed"):
+            return None
+        if self.state == "open":
+            return "window"
+        return str(self.render_dir) if self.render_dir is not None else str(latest_frame_path())
+
+    def close(self) -> None:
+        if self.figure is not None:
+            import matplotlib.pyplot as plt
+            plt.close(self.figure)
+            self.figure = None

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .common import measurement
+from .composition import measurement
 from .core import PreloadBatch
 from .features import F_NS_RMS
 from .scenario import Scenario

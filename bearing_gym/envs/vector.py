@@ -16,8 +16,7 @@ from bearing_gym.params import BearingParams
 from bearing_gym.units import rad_s_to_rpm
 
 from .bearing_preload import BearingPreloadEnv
-from .common import (DEFAULTS, check_actions, configure, measurement, observe, reset_envs,
-                     reset_info, step_outputs)
+from .composition import DEFAULTS, PreloadTask, TaskParts, check_actions
 from .rendering import HISTORY_LENGTH, POINCARE_LENGTH, record_interval, rgb_frame
 
 __all__ = ["BearingPreloadVectorEnv", "ResetMaskError"]
@@ -38,7 +37,7 @@ def check_action_batch(actions, num_envs: int) -> np.ndarray:
     return check_actions(actions, num_envs)
 
 
-class BearingPreloadVectorEnv(VectorEnv):
+class BearingPreloadVectorEnv(TaskParts, VectorEnv):
     """``num_envs`` copies of :class:`~bearing_gym.envs.BearingPreloadEnv` stepped together by
     one numba kernel (``prange`` over environments, ``num_threads`` worker threads).
 
@@ -73,8 +72,8 @@ class BearingPreloadVectorEnv(VectorEnv):
         if isinstance(num_envs, bool) or not isinstance(num_envs, (int, np.integer)) or num_envs < 1:
             raise ValueError(f"num_envs must be an integer >= 1, got {num_envs!r}")
         self.num_envs = int(num_envs)
-        configure(self, tier, scenario, actuator, observation, reward, params, control_dt_s,
-                  episode_steps, num_envs=self.num_envs)
+        self.task = PreloadTask.build(tier, scenario, actuator, observation, reward, params, control_dt_s,
+                                      episode_steps, num_envs=self.num_envs)
         self.max_episode_steps = max_episode_steps
         if num_threads is not None and not (1 <= num_threads <= numba.config.NUMBA_NUM_THREADS):
             raise ValueError(f"num_threads must be in [1, {numba.config.NUMBA_NUM_THREADS}], got {num_threads}")
@@ -133,16 +132,13 @@ class BearingPreloadVectorEnv(VectorEnv):
         """Reset envs ``idx`` (their settled starts run together); returns their first
         observations and reset infos."""
         rngs = [self._rng(b) for b in idx]
-        self._with_threads(reset_envs, self, idx, rngs, options)
+        self._with_threads(self.task.reset, idx, rngs, options)
         for b in idx:
             self._elapsed[b] = 0
             self._frame_history[b].clear()
             self._frame_poincare[b].clear()
             self._frame_orbit[b] = None
-        batch = self.batch
-        m = measurement(batch, idx, batch.preload[idx].copy(), np.full(len(idx), self.episode_steps),
-                        batch.start_failed[idx].copy())
-        return observe(self, m, idx, rngs), [reset_info(batch, int(b), m, i) for i, b in enumerate(idx)]
+        return self.task.reset_outputs(idx, rngs)
 
     @property
     def scenarios(self) -> tuple:
@@ -182,7 +178,7 @@ class BearingPreloadVectorEnv(VectorEnv):
                     self._frame_orbit[b] = orbit
         self._elapsed[idx] += 1
         steps_left = np.maximum(self.episode_steps - self._elapsed[idx], 0)
-        obs, rew, term, infos = step_outputs(self, idx, before, steps_left, [self._rngs[b] for b in idx])
+        obs, rew, term, infos = self.task.step_outputs(idx, before, steps_left, [self._rngs[b] for b in idx])
         if self.max_episode_steps is None:
             trunc = np.zeros(len(idx), dtype=bool)
         else:

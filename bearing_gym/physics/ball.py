@@ -105,6 +105,17 @@ def ball_residual(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm):
 
 
 @njit(cache=True, inline="always")
+def hertz_load(delta, k, dk, drx):
+    """Hertz contact load Q = K delta^1.5 (eqs 24-25) of a deflection ``delta`` (0 without
+    contact), with dQ/d(alpha) = delta^1.5 dK/d(R_x) dR_x/d(alpha) and dQ/d(delta) = 1.5 K
+    delta^0.5 (App. C); delta^1.5 as delta sqrt(delta), with IEEE operations only."""
+    if delta > 0.0:
+        sq = math.sqrt(delta)
+        return k * delta * sq, delta * sq * dk * drx, 1.5 * k * sq
+    return 0.0, 0.0, 0.0
+
+
+@njit(cache=True, inline="always")
 def ball_model(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm):
     """Eqs 18-30 for one ball at displacement v: residual of eq 28, its Jacobian (App. C) and
     the contact state with its derivatives along (v_r, v_z).
@@ -140,28 +151,8 @@ def ball_model(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm):
     dai_z = -ci / li
     dao_r = -so / lo
     dao_z = co / lo
-    if di > 0.0:
-        sq = math.sqrt(di)
-        qi = ki * di * sq
-        dqi_da = di * sq * dki * drxi
-        dqi_dl = 1.5 * ki * sq
-        chi_i = 1.0
-    else:
-        qi = 0.0
-        dqi_da = 0.0
-        dqi_dl = 0.0
-        chi_i = 0.0
-    if do > 0.0:
-        sq = math.sqrt(do)
-        qo = ko * do * sq
-        dqo_da = do * sq * dko * drxo
-        dqo_dl = 1.5 * ko * sq
-        chi_o = 1.0
-    else:
-        qo = 0.0
-        dqo_da = 0.0
-        dqo_dl = 0.0
-        chi_o = 0.0
+    qi, dqi_da, dqi_dl = hertz_load(di, ki, dki, drxi)
+    qo, dqo_da, dqo_dl = hertz_load(do, ko, dko, drxo)
     dqi_r = dqi_da * dai_r - dqi_dl * ci                      # C.7
     dqi_z = dqi_da * dai_z - dqi_dl * si                      # C.9
     dqo_r = dqo_da * dao_r + dqo_dl * co                      # C.8

@@ -1,2 +1,2 @@
 """Reproduction of Bai & Xu (2006), section 3: ``python -m bearing_gym.reproduction`` (or
-``python -m bearing_gym.reproduce``); see :mod:`.main` for the options and outputs."""
+``bearing-gym reproduce``); see :mod:`.main` for the options and outputs."""

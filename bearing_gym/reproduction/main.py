@@ -1,10 +1,10 @@
 """Reproduction of Bai & Xu (2006), section 3 (claims 1-7 of ``docs/model.md``).
 
-    python -m bearing_gym.reproduce [--quick] [--out docs/reproduction] [--report PATH]
-                                    [--workers N] [--no-progress] [--cache FILE [--redo PREFIX ...]]
-                                    [--report-only]
+    python -m bearing_gym.reproduction [--quick] [--out docs/reproduction] [--report PATH]
+                                       [--workers N] [--no-progress] [--cache FILE [--redo PREFIX ...]]
+                                       [--report-only]
 
-(``python -m bearing_gym.reproduction`` is the same.) Regenerates from scratch every figure the
+(``bearing-gym reproduce`` is the same.) Regenerates from scratch every figure the
 paper describes, as PNG files under ``--out``:
 
 * claim 1 (section 3.1, Fig. 5): cage speed against shaft speed, e = 2e-5 m;
@@ -73,7 +73,7 @@ def _load_cache(path: Path) -> dict:
 
 
 def main(argv: list[str] | None = None) -> int:
-    ap = argparse.ArgumentParser(prog="python -m bearing_gym.reproduce",
+    ap = argparse.ArgumentParser(prog="python -m bearing_gym.reproduction",
                                  description="Regenerate the figures, summary.json and report of the "
                                              "reproduction of Bai & Xu (2006).")
     ap.add_argument("--quick", action="store_true", help="coarse grids, short runs (~3 min)")

@@ -133,7 +133,7 @@ agreement is better when the centrifugal force is included.
 quasi-static ball model only through the centrifugal force F_e (eq 29) and the ball inertia I_b only
 through the gyroscopic moment M_g (eq 30, hence also the race-control friction of eqs 28 and 32),
 so the reproduction zeroes them in the Simulator's packed parameters (a workaround through private
-attributes, `reproduce._simulator_variant`), starts each variant at its own static equilibrium and
+attributes, `reproduction.experiments.simulator_variant`), starts each variant at its own static equilibrium and
 keeps the full model's damping coefficients, so the models differ only in these terms. Without
 them a_i = a_o, as it must be for a ball loaded by its two contacts only.
 """)

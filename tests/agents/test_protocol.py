@@ -13,7 +13,7 @@ def test_ranges_are_disjoint_and_the_check_catches_an_overlap():
 
 
 def test_tier_design_measurement_uses_its_own_range():
-    from agents import tier_gap
+    from agents.references import tier_gap
     seed = tier_gap.build_parser().get_default("seed")
     assert protocol.range_of(seed) == "tier_design"
     assert protocol.range_of(seed + 19) == "tier_design"
@@ -21,7 +21,7 @@ def test_tier_design_measurement_uses_its_own_range():
 
 def test_train_and_evaluate_draw_from_their_ranges():
     import train
-    from agents.evaluate import TEST_SEED
+    from agents.evaluation.episodes import TEST_SEED
     assert protocol.range_of(TEST_SEED) == "test"
     assert protocol.range_of(train.build_parser().get_default("val_seed")) == "validation"
     assert protocol.range_of(train.build_parser().get_default("seed")) == "train"
@@ -31,7 +31,7 @@ def test_training_and_evaluation_use_the_registered_definition():
     import gymnasium as gym
 
     import train
-    from agents.evaluate import build_parser as evaluate_parser
+    from agents.leaderboard.compare import build_parser as evaluate_parser
     from bearing_gym.benchmark import DEFAULT_TIER, EPISODE_STEPS
     spec = gym.spec("BearingPreload-v0")
     assert spec.max_episode_steps == EPISODE_STEPS
@@ -66,8 +66,9 @@ def test_training_seeds_come_from_train_in_separate_blocks():
 
 
 def test_the_references_draw_from_their_ranges():
-    from agents import contextual, references
-    from agents.leaderboard import FULL
+    from agents.references import contextual_fit as contextual
+    from agents.references import validation as references
+    from agents.leaderboard.settings import FULL
     seeds = protocol.held_out_seeds(FULL.episodes)
     assert FULL.episodes == protocol.TEST_EPISODES and protocol.range_of(seeds[0]) == protocol.range_of(seeds[-1]) == "test"
     assert protocol.range_of(references.build_parser().get_default("seed")) == "validation"

@@ -97,12 +97,14 @@ def test_info_reports_each_reward_term():
 @pytest.mark.parametrize("bad,match", [(np.array([np.nan], np.float32), "NaN"),
                                        (np.array([1.5], np.float32), "outside the action space"),
                                        (np.array([-1.01], np.float32), "outside the action space"),
-                                       (np.array([0.1, 0.2], np.float32), "1 element")])
+                                       (np.array([0.1, 0.2], np.float32), r"one element \(shape \(1,\)"),
+                                       (np.array([0.1, 0.2, 0.3], np.float32), r"one element \(shape \(1,\)")])
 def test_bad_actions_raise(bad, match):
     env = BearingPreloadEnv(scenario="paper")
     env.reset(seed=0)
-    with pytest.raises(ValueError, match=match):
+    with pytest.raises(ValueError, match=match) as err:
         env.step(bad)
+    assert "batch" not in str(err.value) and "per env" not in str(err.value)    # the single env's words
 
 
 @pytest.mark.parametrize("bad", ["0.5", None, b"1", {"a": 1}])
@@ -184,9 +186,9 @@ def test_render_human_updates_a_window_and_stops_when_it_is_closed(monkeypatch):
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
 
-    from bearing_gym.envs import bearing_preload
+    from bearing_gym.envs import rendering
     fig = plt.figure()                      # stands in for the interactive window
-    monkeypatch.setattr(bearing_preload, "_open_window", lambda: fig)
+    monkeypatch.setattr(rendering, "open_window", lambda: fig)
     monkeypatch.setattr(plt, "pause", lambda s: None)
     env = BearingPreloadEnv(scenario="paper", render_mode="human")
     env.reset(seed=0)
@@ -194,5 +196,5 @@ def test_render_human_updates_a_window_and_stops_when_it_is_closed(monkeypatch):
     assert len(fig.axes) == 3 and "quasi-periodicity index" in fig._suptitle.get_text()
     plt.close(fig)
     env.step(np.array([0.0], dtype=np.float32))           # no error, no new window
-    assert env._window is None and env._window_state == "closed"
+    assert env.human_render_target is None and env._window.state == "closed"
     env.close()

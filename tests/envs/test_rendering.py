@@ -6,7 +6,7 @@ import tempfile
 import matplotlib
 import numpy as np
 
-from bearing_gym.envs import BearingPreloadEnv, BearingPreloadVectorEnv, bearing_preload
+from bearing_gym.envs import BearingPreloadEnv, BearingPreloadVectorEnv, rendering
 
 
 def _forbid_backend_changes(monkeypatch):
@@ -38,7 +38,7 @@ def test_opening_the_human_window_keeps_the_users_interactive_mode(monkeypatch):
     was_interactive = matplotlib.is_interactive()
     monkeypatch.setattr(matplotlib, "get_backend", lambda *a, **k: "tkagg")   # as with a display
     monkeypatch.setattr(plt, "show", lambda *a, **k: None)
-    fig = bearing_preload._open_window()
+    fig = rendering.open_window()
     try:
         assert fig is not None and matplotlib.is_interactive() == was_interactive
     finally:
@@ -47,7 +47,7 @@ def test_opening_the_human_window_keeps_the_users_interactive_mode(monkeypatch):
 
 def test_headless_human_rendering_writes_to_a_frames_folder_not_a_package_name(monkeypatch, tmp_path):
     monkeypatch.setattr(tempfile, "tempdir", str(tmp_path))
-    monkeypatch.setattr(bearing_preload, "_open_window", lambda: None)        # headless
+    monkeypatch.setattr(rendering, "open_window", lambda: None)        # headless
     env = BearingPreloadEnv(scenario="paper", render_mode="human")
     env.reset(seed=0)
     env.step(np.array([0.0], dtype=np.float32))

@@ -101,7 +101,7 @@ def main(quick: bool) -> dict:
     out["field"] = episode("field", 300007, {}, acts)
     # the shipped recurrent policy through the portable float64 path (no torch); absent before it
     try:
-        from agents.portable_policy import PortablePolicy
+        from agents.policies.portable import PortablePolicy
     except ImportError:
         PortablePolicy = None
     if PortablePolicy is not None:

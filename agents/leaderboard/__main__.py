@@ -1,0 +1,3 @@
+from agents.leaderboard.board import main
+
+main()

@@ -1,0 +1,159 @@
+"""Normalised scores and their aggregation (rliable: IQM, stratified-bootstrap intervals,
+probability of improvement).
+
+Per episode, a policy's return R becomes
+
+    score = (R - R_0) / max(R_1 - R_0, DENOMINATOR_FLOOR)
+
+with R_0 the return of the validation-chosen constant preload (score 0) and R_1 the better of
+the MPC reference and the hindsight best constant on that episode (score 1); where the MPC did
+not run (outside the protocol's MPC subset) R_1 is the hindsight constant alone.
+
+**The denominator floor.** R_1 - R_0 is >= 0 (the validation constant is one of the hindsight
+grid's candidates) and is ~0 on episodes where the validation constant already is the best
+constant and the MPC finds nothing better. Dividing by it would turn a return difference of a
+fraction of one interval's cost into a score of hundreds. The floor is
+``DENOMINATOR_FLOOR = 1.0`` reward units: the smallest cost of one quasi-periodic control
+interval in the default reward (``VibrationFirstReward``: q (1 + a / a_ref) >= 1), i.e. a gap
+smaller than one quasi-periodic interval per episode is not treated as room to improve. On
+such an episode the score is the return difference in units of that interval's cost (so the
+upper reference itself scores (R_1 - R_0) / floor < 1 there). Scores are never clipped: a
+policy can score below 0 (worse than the validation constant) or above 1 (better than both
+upper references); the number of floored episodes is reported with every tier.
+
+**Aggregation.** Scores are arranged as rliable's (runs x tasks) matrix: training seeds x test
+episodes. ``iqm_interval`` gives the interquartile mean with a 95 % stratified-bootstrap
+interval with ``task_bootstrap=True``: each bootstrap sample redraws the seeds within every
+episode *and* the episodes, so the interval covers both the training-seed spread and the
+sampling of scenarios. For a single-run row (a deterministic reference, or one shipped policy)
+this is a bootstrap over episodes. ``seed_interval`` is rliable's default (seeds redrawn within
+each episode, the episodes held fixed), reported as well for rows with several seeds.
+The probability of improvement over the validation constant is rliable's
+(P(X_m > Y_m) averaged over episodes, ties counting one half); its interval redraws the seeds
+and is undefined (None) for a single-run row.
+
+rliable's bootstrap draws its indices from NumPy's global generator; every function here seeds
+it (and restores its state afterwards), so the intervals are reproducible.
+"""
+
+from __future__ import annotations
+
+from contextlib import contextmanager
+from typing import Iterator
+
+import numpy as np
+
+
+__all__ = ["DENOMINATOR_FLOOR", "upper_reference", "normalised_scores", "floored_episodes", "iqm",
+           "iqm_interval", "seed_interval", "probability_of_improvement", "BOOTSTRAP_REPS", "POI_REPS"]
+
+#: Reward units: the smallest cost of one quasi-periodic interval (module docstring: the reason).
+DENOMINATOR_FLOOR = 1.0
+#: Bootstrap replications for the IQM intervals (rliable's default) and for the probability of
+#: improvement (rliable's examples: one Mann-Whitney test per episode per replication).
+BOOTSTRAP_REPS = 50_000
+POI_REPS = 2_000
+BOOTSTRAP_SEED = 0
+
+
+def _rliable():
+    try:
+        from rliable import library, metrics
+    except Exception as err:    # arch fails to import with pandas 3; rliable's bootstrap with arch 8
+        raise ImportError("the leaderboard's statistics need rliable with a compatible arch: "
+                          "pip install 'rliable>=1.2' 'arch>=5,<8' 'pandas<3' "
+                          f"(import failed: {type(err).__name__}: {err})") from err
+    return library, metrics
+
+
+@contextmanager
+def _global_seed(seed: int) -> Iterator[None]:
+    state = np.random.get_state()
+    np.random.seed(seed)
+    try:
+        yield
+    finally:
+        np.random.set_state(state)
+
+
+def upper_reference(hindsight: np.ndarray, mpc: np.ndarray | None = None) -> np.ndarray:
+    """R_1 per episode: the better of the hindsight constant and the MPC where the MPC ran
+    (``mpc`` NaN where it did not, or None if it ran nowhere)."""
+    h = np.asarray(hindsight, dtype=np.float64)
+    if mpc is None:
+        return h.copy()
+    m = np.asarray(mpc, dtype=np.float64)
+    if m.shape != h.shape:
+        raise ValueError(f"mpc returns {m.shape} must match the hindsight's {h.shape} (NaN where the MPC did not run)")
+    return np.where(np.isnan(m), h, np.fmax(h, m))
+
+
+def normalised_scores(returns: np.ndarray, r0: np.ndarray, r1: np.ndarray,
+                      floor: float = DENOMINATOR_FLOOR) -> np.ndarray:
+    """(R - R_0) / max(R_1 - R_0, floor) per episode; ``returns`` (episodes,) or (runs, episodes),
+    ``r0`` and ``r1`` (episodes,). Not clipped."""
+    if not floor > 0:
+        raise ValueError(f"the denominator floor must be > 0 reward units, got {floor}")
+    r = np.asarray(returns, dtype=np.float64)
+    r0 = np.asarray(r0, dtype=np.float64)
+    r1 = np.asarray(r1, dtype=np.float64)
+    if r0.shape != r1.shape or r0.ndim != 1 or r.shape[-1] != r0.shape[0]:
+        raise ValueError(f"returns {r.shape} must end in the episodes of r0 {r0.shape} and r1 {r1.shape}")
+    return (r - r0) / np.maximum(r1 - r0, floor)
+
+
+def floored_episodes(r0: np.ndarray, r1: np.ndarray, floor: float = DENOMINATOR_FLOOR) -> int:
+    """How many episodes have R_1 - R_0 below the floor (their denominator is the floor)."""
+    return int(np.count_nonzero(np.asarray(r1) - np.asarray(r0) < floor))
+
+
+def _as_runs_by_tasks(scores: np.ndarray) -> np.ndarray:
+    s = np.asarray(scores, dtype=np.float64)
+    s = s[None, :] if s.ndim == 1 else s
+    if s.ndim != 2 or s.size == 0 or not np.all(np.isfinite(s)):
+        raise ValueError(f"scores must be a finite (runs, episodes) array, got shape {s.shape}")
+    return s
+
+
+def iqm(scores: np.ndarray) -> float:
+    """rliable's interquartile mean over every run and episode."""
+    _, metrics = _rliable()
+    return float(metrics.aggregate_iqm(_as_runs_by_tasks(scores)))
+
+
+def _interval(scores: np.ndarray, task_bootstrap: bool, reps: int, seed: int) -> tuple[float, float, float]:
+    library, metrics = _rliable()
+    s = _as_runs_by_tasks(scores)
+    with _global_seed(seed):
+        point, ci = library.get_interval_estimates({"x": s}, lambda x: np.array([metrics.aggregate_iqm(x)]),
+                                                   reps=reps, task_bootstrap=task_bootstrap)
+    return float(point["x"][0]), float(ci["x"][0][0]), float(ci["x"][1][0])
+
+
+def iqm_interval(scores: np.ndarray, reps: int = BOOTSTRAP_REPS, seed: int = BOOTSTRAP_SEED) -> tuple[float, float, float]:
+    """(IQM, 95 % low, high): stratified bootstrap over seeds and episodes (a bootstrap over
+    episodes for a single run)."""
+    return _interval(scores, True, reps, seed)
+
+
+def seed_interval(scores: np.ndarray, reps: int = BOOTSTRAP_REPS, seed: int = BOOTSTRAP_SEED) -> tuple[float, float, float]:
+    """(IQM, 95 % low, high): rliable's default, seeds redrawn within each episode, episodes fixed."""
+    return _interval(scores, False, reps, seed)
+
+
+def probability_of_improvement(x: np.ndarray, y: np.ndarray, reps: int = POI_REPS,
+                               seed: int = BOOTSTRAP_SEED) -> tuple[float, float | None, float | None]:
+    """(P(X > Y), 95 % low, high) with rliable, X and Y (runs, episodes) on the same episodes;
+    the interval is None when both have a single run (nothing to redraw)."""
+    library, metrics = _rliable()
+    x, y = _as_runs_by_tasks(x), _as_runs_by_tasks(y)
+    if x.shape[1] != y.shape[1]:
+        raise ValueError(f"x and y must share their episodes: {x.shape} vs {y.shape}")
+    p = float(metrics.probability_of_improvement(x, y))
+    if x.shape[0] == 1 and y.shape[0] == 1:
+        return p, None, None
+    with _global_seed(seed):
+        _, ci = library.get_interval_estimates({"p": [x, y]},
+                                               lambda a, b: np.array([metrics.probability_of_improvement(a, b)]),
+                                               reps=reps)
+    return p, float(ci["p"][0][0]), float(ci["p"][1][0])

@@ -1,0 +1,3 @@
+from agents.references.validation import main
+
+main()

@@ -1,0 +1,123 @@
+"""Does a tier need closed-loop control? MPC with the true simulator against the hindsight best
+constant preload, paired on the same scenarios.
+
+    python -m agents.references.tier_gap --tier transient --seed 200000 --episodes 20 --out docs/tier_gap_transient.json
+
+For each scenario (env seeded ``seed + i``): every constant preload of a grid over the whole
+action range (``--grid-step``, default 50 N) runs the episode in one batch (the native vector
+env, every env on the same scenario) and the best is the hindsight constant; the receding-horizon
+MPC (:mod:`agents.policies.mpc`) runs the same episode. Reports each mean and the paired difference MPC -
+hindsight with a 95 % Student-t interval. The seeds 200000+ are the tier-design range: apart
+from training, validation and test seeds (``agents.protocol``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import math
+import time
+from multiprocessing import get_context
+from pathlib import Path
+
+import numpy as np
+
+
+__all__ = ["hindsight_constant", "scenario_gap", "main"]
+
+
+def hindsight_constant(tier: str, seed: int, preloads_n: np.ndarray) -> tuple[float, float, np.ndarray]:
+    """(best preload, its return, all returns) of the constants on the scenario of ``seed``."""
+    from bearing_gym.envs import BearingPreloadEnv, BearingPreloadVectorEnv
+    probe = BearingPreloadEnv(tier=tier)
+    probe.reset(seed=seed)
+    scenario = probe.scenario
+    venv = BearingPreloadVectorEnv(num_envs=len(preloads_n), tier=tier, max_episode_steps=None)
+    venv.reset(seed=seed, options={"scenario": scenario})
+    actions = np.array([[venv.actuator.action_for(p)] for p in preloads_n])
+    total = np.zeros(len(preloads_n))
+    alive = np.ones(len(preloads_n), dtype=bool)
+    for _ in range(venv.episode_steps):
+        _, r, term, _, _ = venv.step(actions)
+        total += np.where(alive, r, 0.0)
+        alive &= ~term
+    best = int(np.argmax(total))
+    return float(preloads_n[best]), float(total[best]), total
+
+
+def scenario_gap(args: tuple) -> dict:
+    tier, seed, grid_step, horizon, replan_every = args
+    import numba
+    numba.set_num_threads(1)                     # one process per core
+    from bearing_gym.envs import BearingPreloadEnv
+
+    from agents.policies.mpc import RecedingHorizonMPC
+    t0 = time.time()
+    preloads = np.arange(300.0, 2000.0 + 1e-9, grid_step)
+    best_p, best_r, _ = hindsight_constant(tier, seed, preloads)
+    env = BearingPreloadEnv(tier=tier)
+    mpc = RecedingHorizonMPC(horizon=horizon, replan_every=replan_every)
+    out = mpc.run_episode(env, seed=seed)
+    sc = env.scenario
+    return {"seed": seed, "hindsight_preload_n": best_p, "hindsight_return": best_r,
+            "mpc_return": out.episode_return, "mpc_terms": out.terms,
+            "mpc_quasi_periodic_fraction": out.quasi_periodic_fraction,
+            "speed_profile": [list(k) for k in sc.speed_profile],
+            "radial_load_profile": [list(k) for k in sc.radial_load_profile],
+            "clearance_um": sc.clearance_m * 1e6, "wall_s": time.time() - t0}
+
+
+def mpc_candidates() -> tuple[float, ...]:
+    from agents.policies.mpc import DEFAULT_CANDIDATES_N
+    return DEFAULT_CANDIDATES_N
+
+
+def paired_ci(diff: np.ndarray) -> tuple[float, float, float]:
+    from scipy import stats
+    m = float(np.mean(diff))
+    h = float(stats.t.ppf(0.975, len(diff) - 1) * np.std(diff, ddof=1) / math.sqrt(len(diff)))
+    return m, m - h, m + h
+
+
+def build_parser() -> argparse.ArgumentParser:
+    from agents.protocol import TIER_DESIGN
+    ap = argparse.ArgumentParser(description="MPC (true simulator) vs the hindsight best constant, paired")
+    ap.add_argument("--tier", default="transient")
+    ap.add_argument("--seed", type=int, default=TIER_DESIGN.start)
+    ap.add_argument("--episodes", type=int, default=20)
+    ap.add_argument("--grid-step", type=float, default=50.0)
+    ap.add_argument("--horizon", type=int, default=10, help="MPC look-ahead (control intervals)")
+    ap.add_argument("--replan-every", type=int, default=5)
+    ap.add_argument("--processes", type=int, default=2)
+    ap.add_argument("--out", default=None, help="JSON file for the per-scenario results")
+    return ap
+
+
+def main(argv: list[str] | None = None) -> None:
+    a = build_parser().parse_args(argv)
+    jobs = [(a.tier, a.seed + i, a.grid_step, a.horizon, a.replan_every) for i in range(a.episodes)]
+    rows = []
+    t0 = time.time()
+    with get_context("spawn").Pool(a.processes) as pool:
+        for k, row in enumerate(pool.imap(scenario_gap, jobs)):
+            rows.append(row)
+            print(f"[{k + 1}/{len(jobs)}] seed {row['seed']}: MPC {row['mpc_return']:.2f}, hindsight "
+                  f"{row['hindsight_preload_n']:.0f} N {row['hindsight_return']:.2f} ({row['wall_s']:.0f} s)", flush=True)
+    diff = np.array([r["mpc_return"] - r["hindsight_return"] for r in rows])
+    m, lo, hi = paired_ci(diff)
+    summary = {"tier": a.tier, "seeds": [a.seed, a.seed + a.episodes - 1], "episodes": a.episodes,
+               "grid_step_n": a.grid_step, "mpc": {"horizon": a.horizon, "replan_every": a.replan_every,
+                                                    "candidates": len(mpc_candidates())},
+               "mean_mpc_return": float(np.mean([r["mpc_return"] for r in rows])),
+               "mean_hindsight_return": float(np.mean([r["hindsight_return"] for r in rows])),
+               "paired_mpc_minus_hindsight": m, "ci95_low": lo, "ci95_high": hi,
+               "mpc_wins": int(np.sum(diff > 0)), "wall_s": time.time() - t0, "scenarios": rows}
+    print(f"{a.tier}: MPC {summary['mean_mpc_return']:.2f}, hindsight constant "
+          f"{summary['mean_hindsight_return']:.2f}, paired {m:+.2f} [{lo:+.2f}, {hi:+.2f}] "
+          f"(MPC better in {summary['mpc_wins']}/{a.episodes}), {summary['wall_s'] / 60:.1f} min")
+    if a.out:
+        Path(a.out).write_text(json.dumps(summary, indent=1))
+
+
+if __name__ == "__main__":
+    main()

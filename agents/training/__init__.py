@@ -1,0 +1,3 @@
+"""What train.py and the protocol's runs share: the training callbacks (:mod:`.callbacks`), the
+board after training (:mod:`.after_training`) and running the protocol's runs
+(:mod:`.protocol_runs`)."""

@@ -1,0 +1,104 @@
+"""train.py's evaluation: the run just trained and the shipped policies on the leaderboard.
+
+After training, ``train.py`` (README command 1) puts its fresh model beside the shipped policies
+(``agents/pretrained/<algo>/``) and every reference on its ``--eval-episodes`` test episodes
+(the first test seeds of :mod:`agents.protocol`) and prints the leaderboard table with
+normalised scores (:func:`agents.leaderboard.board.run_tier`). The expensive references (hindsight
+sweep, MPC) come from ``agents/data/test_references_<tier>.json``, stored by the full
+leaderboard run and checked there against the validation constant run again, so the
+evaluation takes minutes; without a store (another episode length, a tier not yet run) they
+are computed here (the hindsight sweep; no MPC) and the evaluation takes longer. A tier with
+no validation-chosen constant or no fitted contextual baseline gets the per-baseline report
+of :func:`agents.leaderboard.compare.evaluate` instead.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+from pathlib import Path
+from typing import Any
+
+from bearing_gym.benchmark import EPISODE_STEPS
+from bearing_gym.envs.tiers import tier_is_deterministic
+
+from agents import protocol as P
+from agents.policies.contextual import ContextualConstant, contextual_path
+from agents.evaluation.trained import PRETRAINED_DIR, shipped_dirs
+from agents.leaderboard.settings import FULL
+from agents.leaderboard.board import learned_groups, run_tier
+from agents.references.store import load_choice
+from agents.leaderboard.results_file import header, table_path, write
+from agents.references.store import load_references
+
+
+__all__ = ["evaluate_run", "BOARD_BOOTSTRAP_REPS"]
+
+#: bootstrap replications of the after-training board (the full leaderboard uses rliable's 50,000)
+BOARD_BOOTSTRAP_REPS = 5_000
+
+
+def _missing_reference(tier: str) -> str | None:
+    try:
+        load_choice(tier)
+        ContextualConstant.load(contextual_path(tier))
+    except (LookupError, FileNotFoundError) as err:
+        return str(err)
+    return None
+
+
+def evaluate_run(model_dir: str | Path, episodes: int, tier: str, episode_steps: int = EPISODE_STEPS,
+                 pretrained_dir: Path = PRETRAINED_DIR, progress_every_s: float = 30.0) -> dict[str, Any] | None:
+    """The board of ``model_dir``'s fresh model, the shipped policies and the references on the
+    first ``episodes`` test seeds; writes ``leaderboard.md`` and ``leaderboard.json`` into
+    ``model_dir`` and prints the table. Returns the tier's results (None when it fell back to
+    the per-baseline report)."""
+    out = Path(model_dir)
+    episodes = P.episodes_for_tier(tier, episodes)      # 1 on a deterministic tier: the others are copies
+    missing = _missing_reference(tier)
+    if missing is None and episodes < 2 and not tier_is_deterministic(tier):
+        missing = f"{episodes} episode: an interval needs two"
+    if missing is not None:
+        from agents.evaluation.episodes import TEST_SEED
+        from agents.leaderboard.compare import evaluate
+        print(f"note: no leaderboard for tier {tier} ({missing}); the per-baseline report instead", flush=True)
+        evaluate(out, episodes=episodes, seed=TEST_SEED, episode_steps=episode_steps, tier=tier,
+                 progress_every_s=progress_every_s)
+        return None
+    stored = None
+    if episode_steps == EPISODE_STEPS:
+        try:
+            stored = load_references(tier)
+        except FileNotFoundError as err:
+            print(f"note: {err}; computing the hindsight reference here (no MPC)", flush=True)
+        if stored is not None and episodes > len(stored.seeds):
+            print(f"note: {episodes} episodes asked, {len(stored.seeds)} stored: computing the references here", flush=True)
+            stored = None
+    s = dataclasses.replace(FULL, episodes=episodes, episode_steps=episode_steps,
+                            mpc_episodes=min(stored.mpc_episodes, episodes) if stored else 0,
+                            bootstrap_reps=BOARD_BOOTSTRAP_REPS, poi_reps=max(200, BOARD_BOOTSTRAP_REPS // 10))
+    shipped = bool(shipped_dirs(pretrained_dir, required=False))
+    groups = learned_groups([out], pretrained=shipped, pretrained_dir=pretrained_dir)
+    fresh = groups[0]
+    steps = fresh.timesteps[0]
+    fresh.name = f"{fresh.algo.upper()} (this run, {steps:,} steps: a demo)" if steps else f"{fresh.algo.upper()} (this run)"
+    if not shipped:
+        print(f"note: no shipped policies in {pretrained_dir}/<algo>/: the board has this run and the references only",
+              flush=True)
+    try:
+        result = run_tier(tier, s, groups, processes=1, stored=stored)
+    except (ValueError, RuntimeError) as err:      # a stale or mismatched store: not worth the training
+        if stored is None:
+            raise
+        print(f"note: {err}; computing the hindsight reference here (no MPC)", flush=True)
+        result = run_tier(tier, dataclasses.replace(s, mpc_episodes=0), groups, processes=1, stored=None)
+    results = {**header("after training (train.py)", f"python train.py ... --out {out}", s.bootstrap_reps, s.poi_reps),
+               "tiers": {tier: result}}
+    board = out / "leaderboard.json"
+    text = write(results, board)
+    note = (f"\nThe shipped rows are the leaderboard's policies (docs/results.md: "
+            f"{P.episodes_for_tier(tier, P.TEST_EPISODES)} test episodes, every training seed); this run's row is a "
+            f"short demo on {episodes} of those episodes.\n")
+    with table_path(board).open("a") as f:      # leaderboard.md, beside it
+        f.write(note)
+    print(text + note, flush=True)
+    return result

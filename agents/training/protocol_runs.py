@@ -1,0 +1,237 @@
+"""The leaderboard's training runs: every algorithm of the protocol with each of its training
+seeds, at the protocol's step budget, one run per command so that each fits a session.
+
+    python -m agents.training.protocol_runs --list               # the runs and which are done
+    python -m agents.training.protocol_runs --next               # train the first run not done yet
+    python -m agents.training.protocol_runs --next --threads 1   # one numba thread (runs side by side on more cores)
+    python -m agents.training.protocol_runs --algo sac --run 0   # train one run
+    python -m agents.training.protocol_runs --ship               # copy each algorithm's best run to agents/pretrained/
+
+A run is ``train.py --algo A --seed S --timesteps STEP_BUDGET_PER_RUN --n-envs 2 --eval-episodes 0
+--val-episodes VALIDATION_EPISODES_IN_TRAINING --eval-freq VALIDATION_EVERY_STEPS --out
+runs/protocol/A_sS`` (seeds from :func:`agents.protocol.training_seeds`; validation on the
+first validation seeds, whose references the store holds; model.zip is the best validation
+checkpoint). Its small files are then collected into ``agents/trained/A/seed_S/``
+(``model.zip``, ``vec_normalize.pkl``, ``config.json``, ``eval/validation_returns.npz``,
+``eval/evaluations.npz``, ``eval/best.json``): committed, so that the leaderboard
+(``python -m agents.leaderboard --model agents/trained/*/seed_*``) and the learning curves
+(:mod:`agents.leaderboard.learning_curves`) can be rebuilt on another machine. A run is done when its
+collected ``config.json`` records the whole budget. A run in progress holds
+``runs/protocol/A_sS/.running`` (the process id of its train.py), so a second ``--next`` takes the run after it;
+``--threads 1`` gives a run one numba thread (train.py ``--threads``), for running runs side by
+side on a machine with more cores than a run uses; the results do not depend on the thread
+count (the environments are stepped independently). On the 2-core machine it does not pay: two
+SAC runs side by side (2 + 1 threads) made 79 env steps/s together, one run alone about 80-90,
+so the protocol's runs go one after another.
+
+``--ship`` copies, per algorithm, the run with the best validation return of its selected
+checkpoint (validation episodes only: the test seeds choose nothing) to
+``agents/pretrained/<algo>/`` (model.zip + vec_normalize.pkl + config.json), the shipped
+policies of ``python -m agents.leaderboard --pretrained`` and of the main job.
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import os
+import shutil
+import subprocess
+import sys
+import time
+from pathlib import Path
+
+from bearing_gym.benchmark import DEFAULT_TIER
+
+from agents import protocol as P
+from agents.paths import PRETRAINED_DIR, TRAINED_DIR, checkout_root, require_checkout, runs_dir
+
+
+__all__ = ["RUNS", "run_dir", "collected_dir", "is_done", "is_running", "best_checkpoint", "run_summary", "train_run", "collect", "ship", "main"]
+
+ROOT = checkout_root()             # None in an installed package: the protocol runs need a checkout
+WORK_DIR = runs_dir("protocol")
+COLLECT = ("model.zip", "vec_normalize.pkl", "config.json", "eval/validation_returns.npz",
+           "eval/evaluations.npz", "eval/best.json")
+
+#: every (algorithm, run index, training seed) of the protocol, the headline algorithm first
+RUNS = [(a, k, s) for a in sorted(P.ALGORITHMS, key=lambda a: a != P.HEADLINE_ALGORITHM)
+        for k, s in enumerate(P.training_seeds(a))]
+
+
+def run_dir(algo: str, seed: int) -> Path:
+    return WORK_DIR / f"{algo}_s{seed}"
+
+
+def collected_dir(algo: str, seed: int, trained_dir: Path = TRAINED_DIR) -> Path:
+    return trained_dir / algo / f"seed_{seed}"
+
+
+def is_done(algo: str, seed: int, trained_dir: Path = TRAINED_DIR) -> bool:
+    cfg = collected_dir(algo, seed, trained_dir) / "config.json"
+    return cfg.exists() and json.loads(cfg.read_text()).get("num_timesteps", 0) >= P.STEP_BUDGET_PER_RUN
+
+
+def _holder(lock: Path) -> int | None:
+    """The live process named by a ``.running`` file (None: no file, or its process has ended)."""
+    try:
+        pid = int(lock.read_text())
+        os.kill(pid, 0)
+    except (FileNotFoundError, ValueError, ProcessLookupError):
+        return None
+    except PermissionError:            # a process of another user holds the pid
+        return pid
+    return pid
+
+
+def is_running(algo: str, seed: int, work_dir: Path | None = None) -> bool:
+    """Whether a live process holds this run (its ``.running`` file names a process that exists)."""
+    return _holder((work_dir or WORK_DIR) / f"{algo}_s{seed}" / ".running") is not None
+
+
+def _take_lock(out: Path, what: str) -> Path:
+    """Create ``out/.running`` with this process's id, atomically (O_EXCL: of two processes
+    starting the same run one gets it); a lock whose process has ended is replaced."""
+    out.mkdir(parents=True, exist_ok=True)
+    lock = out / ".running"
+    for _ in range(3):
+        try:
+            fd = os.open(lock, os.O_CREAT | os.O_EXCL | os.O_WRONLY)
+        except FileExistsError:
+            pid = _holder(lock)
+            if pid is not None:
+                raise SystemExit(f"{what} is being trained by process {pid}")
+            lock.unlink(missing_ok=True)           # its process has ended
+            continue
+        with os.fdopen(fd, "w") as f:
+            f.write(str(os.getpid()))
+        return lock
+    raise SystemExit(f"could not take the lock {lock}")
+
+
+def best_checkpoint(run: Path) -> dict | None:
+    """A collected run's selected checkpoint (``eval/best.json``: ``num_timesteps``,
+    ``mean_validation_return``), or None if the run is not collected."""
+    path = run / "eval" / "best.json"
+    return json.loads(path.read_text()) if path.exists() else None
+
+
+def run_summary(algo: str, seed: int, trained_dir: Path = TRAINED_DIR) -> str:
+    """A done run's selected checkpoint, its mean validation return and the training wall time."""
+    d = collected_dir(algo, seed, trained_dir)
+    best = best_checkpoint(d)
+    if best is None:
+        return ""
+    cfg = json.loads((d / "config.json").read_text())
+    return (f", best checkpoint {best['num_timesteps']:,} steps, validation return {best['mean_validation_return']:.1f}"
+            f", {cfg.get('train_wall_s', float('nan')) / 60:.1f} min training")
+
+
+def train_args(algo: str, seed: int, out: Path, budget: int = P.STEP_BUDGET_PER_RUN,
+               threads: int | None = None) -> list[str]:
+    """train.py's arguments for one protocol run."""
+    return ["--algo", algo, "--seed", str(seed), "--timesteps", str(budget), "--n-envs", "2",
+            "--tier", DEFAULT_TIER, "--eval-episodes", "0",
+            "--val-episodes", str(P.VALIDATION_EPISODES_IN_TRAINING), "--val-seed", str(P.VALIDATION.start),
+            "--eval-freq", str(P.VALIDATION_EVERY_STEPS), "--out", str(out), "--no-progress"] + (["--threads", str(threads)] if threads is not None else [])
+
+
+def collect(src: Path, dst: Path) -> None:
+    """Copy a finished run's small files (:data:`COLLECT`) from ``src`` to ``dst``."""
+    for name in COLLECT:
+        if not (src / name).exists():
+            raise FileNotFoundError(f"{src / name}: the run is not finished (train.py writes it at the end)")
+    for name in COLLECT:
+        (dst / name).parent.mkdir(parents=True, exist_ok=True)
+        shutil.copyfile(src / name, dst / name)
+
+
+def train_run(algo: str, seed: int, budget: int = P.STEP_BUDGET_PER_RUN, trained_dir: Path = TRAINED_DIR,
+              work_dir: Path | None = None, threads: int | None = None) -> Path:
+    """Train one run with train.py (resuming its checkpoints if an earlier attempt left them)
+    and collect it; returns the collected directory."""
+    out = (work_dir or WORK_DIR) / f"{algo}_s{seed}"
+    lock = _take_lock(out, f"{algo} seed {seed}")
+    try:
+        args = train_args(algo, seed, out, budget, threads)
+        if (out / "checkpoints").exists():
+            args.append("--resume")
+        t0 = time.time()
+        print(f"protocol run: {algo} seed {seed}, {budget:,} steps -> {out}", flush=True)
+        # train.py as its own process (the library does not import the script above it); the lock
+        # names that process, so a run whose launcher was killed still counts as running
+        root = ROOT or require_checkout("train.py", "a source checkout (git clone)")
+        proc = subprocess.Popen([sys.executable, str(root / "train.py"), *args], cwd=root)
+        tmp = lock.with_name(".running.tmp")
+        tmp.write_text(str(proc.pid))
+        os.replace(tmp, lock)
+        rc = proc.wait()
+    finally:
+        lock.unlink(missing_ok=True)
+    if rc:
+        raise SystemExit(f"train.py failed ({rc}) for {algo} seed {seed}")
+    dst = collected_dir(algo, seed, trained_dir)
+    collect(out, dst)
+    print(f"collected into {dst} ({(time.time() - t0) / 60:.1f} min)", flush=True)
+    return dst
+
+
+def ship(trained_dir: Path = TRAINED_DIR, pretrained_dir: Path = PRETRAINED_DIR) -> dict[str, Path]:
+    """Per algorithm, copy the collected run with the best validation return of its selected
+    checkpoint to ``pretrained_dir/<algo>/``."""
+    shipped = {}
+    for algo in P.ALGORITHMS:
+        runs = {d: b for d in sorted((trained_dir / algo).glob("seed_*")) if (b := best_checkpoint(d)) is not None}
+        if not runs:
+            continue
+        best = max(runs, key=lambda d: runs[d]["mean_validation_return"])
+        dst = pretrained_dir / algo
+        dst.mkdir(parents=True, exist_ok=True)
+        for name in ("model.zip", "vec_normalize.pkl", "config.json"):
+            shutil.copyfile(best / name, dst / name)
+        shipped[algo] = best
+        print(f"{algo}: shipped {best} -> {dst}")
+    return shipped
+
+
+def main(argv: list[str] | None = None) -> int:
+    ap = argparse.ArgumentParser(description="The leaderboard's training runs, one per command.")
+    g = ap.add_mutually_exclusive_group(required=True)
+    g.add_argument("--list", action="store_true", help="the protocol's runs and which are done")
+    g.add_argument("--next", action="store_true", help="train the first run not done yet")
+    g.add_argument("--algo", choices=P.ALGORITHMS, help="train this algorithm's run --run")
+    g.add_argument("--ship", action="store_true", help="copy each algorithm's best run to agents/pretrained/")
+    ap.add_argument("--run", type=int, default=0, help="run index (0 .. seeds-1) with --algo")
+    ap.add_argument("--threads", type=int, help="numba threads per run (train.py --threads; default one per env, at most the cores)")
+    a = ap.parse_args(argv)
+    if a.threads is not None and a.threads < 1:
+        ap.error(f"--threads must be >= 1, got {a.threads}")
+    if a.list:
+        for algo, k, seed in RUNS:
+            state = "done" if is_done(algo, seed) else "training" if is_running(algo, seed) else "to do"
+            print(f"{algo:9s} run {k} seed {seed:6d}: {state}{run_summary(algo, seed)}")
+        print(f"budget {P.STEP_BUDGET_PER_RUN:,} env steps per run")
+        return 0
+    if a.ship:
+        ship()
+        return 0
+    if a.next:
+        todo = [(algo, seed) for algo, _, seed in RUNS if not is_done(algo, seed)]
+        if not todo:
+            print("every protocol run is done")
+            return 0
+        free = [r for r in todo if not is_running(*r)]
+        if not free:
+            print("every protocol run not done is being trained")
+            return 0
+        train_run(*free[0], threads=a.threads)
+        return 0
+    seeds = P.training_seeds(a.algo)
+    if not 0 <= a.run < len(seeds):
+        raise SystemExit(f"--run must be in 0..{len(seeds) - 1} for {a.algo}")
+    train_run(a.algo, seeds[a.run], threads=a.threads)
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())

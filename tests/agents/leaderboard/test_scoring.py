@@ -1,0 +1,115 @@
+"""Normalised scores (limit cases, the denominator floor) and the rliable aggregation checked
+against direct NumPy computations on hand-made arrays."""
+
+import numpy as np
+import pytest
+
+from agents.leaderboard import scoring
+
+
+R0 = np.array([-50.0, -80.0, -30.0, -60.0])
+R1 = np.array([-40.0, -50.0, -29.5, -60.0])      # gaps 10, 30, 0.5 (< floor), 0 (< floor)
+
+
+def test_the_validation_constant_scores_0_and_the_upper_reference_1():
+    np.testing.assert_array_equal(scoring.normalised_scores(R0, R0, R1), np.zeros(4))
+    s = scoring.normalised_scores(R1, R0, R1)
+    np.testing.assert_allclose(s[:2], [1.0, 1.0], rtol=0, atol=1e-12)
+    # halfway between the references scores 0.5; scores are not clipped on either side
+    np.testing.assert_allclose(scoring.normalised_scores(R0 + 0.5 * (R1 - R0), R0, R1)[:2], [0.5, 0.5], atol=1e-12)
+    np.testing.assert_allclose(scoring.normalised_scores(R0 - 20.0, R0, R1)[:2], [-2.0, -20.0 / 30.0], atol=1e-12)
+    np.testing.assert_allclose(scoring.normalised_scores(R1 + 10.0, R0, R1)[:2], [2.0, 1.0 + 1.0 / 3.0], atol=1e-12)
+
+
+def test_the_denominator_floor_holds_where_the_references_nearly_agree():
+    floor = scoring.DENOMINATOR_FLOOR
+    s = scoring.normalised_scores(R0 + 2.0, R0, R1)
+    # gap 0.5 and 0 are below the floor: the score is the return difference over the floor
+    np.testing.assert_allclose(s[2:], [2.0 / floor, 2.0 / floor], atol=1e-12)
+    assert scoring.normalised_scores(R1, R0, R1)[2] == pytest.approx(0.5 / floor, abs=1e-12)
+    assert scoring.floored_episodes(R0, R1) == 2
+    # a smaller floor gives larger scores there, and nothing changes where the gap exceeds both
+    s_small = scoring.normalised_scores(R0 + 2.0, R0, R1, floor=0.25)
+    np.testing.assert_allclose(s_small[2:], [4.0, 8.0], atol=1e-12)
+    np.testing.assert_allclose(s_small[:2], s[:2], atol=1e-12)
+    with pytest.raises(ValueError, match="floor"):
+        scoring.normalised_scores(R0, R0, R1, floor=0.0)
+
+
+def test_the_floor_is_the_smallest_cost_of_one_quasi_periodic_interval():
+    from bearing_gym.envs.reward import VibrationFirstReward
+    cost = float(VibrationFirstReward().vibration_cost(True, 0.0))
+    assert scoring.DENOMINATOR_FLOOR == pytest.approx(cost, abs=1e-12)
+
+
+def test_runs_by_episodes_are_scored_against_the_same_episode_references():
+    runs = np.vstack([R0, R1])
+    s = scoring.normalised_scores(runs, R0, R1)
+    assert s.shape == (2, 4)
+    np.testing.assert_array_equal(s[0], np.zeros(4))
+
+
+def test_the_upper_reference_takes_the_mpc_only_where_it_ran_and_is_better():
+    hind = np.array([-40.0, -50.0, -30.0])
+    mpc = np.array([-35.0, -55.0, np.nan])
+    np.testing.assert_array_equal(scoring.upper_reference(hind, mpc), [-35.0, -50.0, -30.0])
+    np.testing.assert_array_equal(scoring.upper_reference(hind), hind)
+
+
+def _numpy_iqm(x: np.ndarray) -> float:
+    """Mean of the middle 50 % of the sorted values (n divisible by 4: no partial weights)."""
+    v = np.sort(x.ravel())
+    n = len(v)
+    return float(np.mean(v[n // 4: n - n // 4]))
+
+
+def test_rliable_iqm_is_the_mean_of_the_middle_half():
+    x = np.array([[0.0, 1.0, 2.0, 3.0, 100.0, -100.0],
+                  [0.5, 1.5, 2.5, 3.5, 50.0, -50.0]])          # 12 values: the middle 6 count
+    assert scoring.iqm(x) == pytest.approx(_numpy_iqm(x), abs=1e-12)
+    assert scoring.iqm(x) == pytest.approx(np.mean([0.5, 1.0, 1.5, 2.0, 2.5, 3.0]), abs=1e-12)
+
+
+def test_the_bootstrap_interval_brackets_the_iqm_and_is_reproducible():
+    rng = np.random.default_rng(3)
+    x = rng.normal(0.4, 0.3, size=(5, 40))
+    point, lo, hi = scoring.iqm_interval(x, reps=500)
+    assert point == pytest.approx(_numpy_iqm(x), abs=1e-12)
+    assert lo < point < hi and hi - lo < 0.3               # 200 values of sd 0.3: a narrow interval
+    assert scoring.iqm_interval(x, reps=500) == (point, lo, hi)
+    # seeds only (episodes fixed) is narrower than seeds and episodes
+    _, slo, shi = scoring.seed_interval(x, reps=500)
+    assert shi - slo < hi - lo
+    # a single run: a bootstrap over episodes, still a real interval
+    _, lo1, hi1 = scoring.iqm_interval(x[:1], reps=500)
+    assert lo1 < hi1
+
+
+def test_probability_of_improvement_counts_wins_per_episode_with_half_ties():
+    x = np.array([[1.0, -1.0, 0.0, 2.0],
+                  [1.0, 1.0, -1.0, 2.0]])
+    y = np.zeros((1, 4))
+    # per episode: 2/2, 1/2, (tie + loss) 0.5/2, 2/2 -> mean (1 + 0.5 + 0.25 + 1) / 4
+    p, lo, hi = scoring.probability_of_improvement(x, y, reps=50)
+    assert p == pytest.approx(0.6875, abs=1e-12)
+    assert lo is not None and lo <= p <= hi
+    p1, lo1, hi1 = scoring.probability_of_improvement(x[:1], y)
+    assert p1 == pytest.approx((1 + 0 + 0.5 + 1) / 4, abs=1e-12) and lo1 is None and hi1 is None
+
+
+def test_poi_over_another_row_is_one_half_against_itself_and_one_against_a_worse_row():
+    from agents.leaderboard.tables import summarise
+    from agents.evaluation.result import EvalResult
+    from bearing_gym.envs.reward import REWARD_TERMS
+    rng = np.random.default_rng(3)
+    n = 12
+    r0, r1 = rng.normal(-150, 10, n), rng.normal(-100, 10, n)
+
+    def result(returns):
+        return EvalResult("p", returns, {k: np.zeros(n) for k in REWARD_TERMS}, np.zeros(n), np.full(n, 900.0))
+    mine = result(rng.normal(-120, 10, n))
+    worse = result(mine.returns - 5.0)          # 5 reward units below on every episode
+    row = summarise("learned", [mine], r0, r1, bootstrap_reps=200, poi_reps=50,
+                    versus={"itself": mine, "worse": worse})
+    assert row["poi_over"]["itself"][0] == pytest.approx(0.5, abs=1e-12)    # ties count one half
+    assert row["poi_over"]["worse"][0] == pytest.approx(1.0, abs=1e-12)

@@ -1,0 +1,101 @@
+"""The portable float64 path of the shipped SB3 policies (agents/policies/portable.py) agrees with
+torch's float32 actions to float32 precision, on observations recorded along an episode (with
+the recurrent state carried and reset at an episode start). Its bit-identity across CPUs is
+tests/portability's business (the probe runs the shipped RecurrentPPO through it)."""
+
+import numpy as np
+import pytest
+
+from agents.evaluation.trained import PRETRAINED_DIR, load_trained
+from agents.policies.portable import PortablePolicy, export_arrays
+from bearing_gym.envs import BearingPreloadEnv
+
+#: actions are in [-1, 1]: float32's spacing near 1 is 1.2e-7; torch's float32 network rounds
+#: every layer, so a few of those spacings apart is float32 precision, a wrong weight is not
+TOLERANCE = 5e-7
+
+
+def recorded(policy, steps: int = 40, seed: int = 300002):
+    """(observations, episode_start flags) along an episode that ``policy`` drives, with a reset in
+    the middle so a recurrent state must be cleared."""
+    env = BearingPreloadEnv(tier="transient")
+    obs_list, starts = [], []
+    obs, _ = env.reset(seed=seed)
+    state, start = None, True
+    for k in range(steps):
+        if k == steps // 2:
+            obs, _ = env.reset(seed=seed + 1)
+            start = True
+        obs_list.append(obs)
+        starts.append(start)
+        a, state = policy.predict(obs[None], state=state, episode_start=np.array([start]))
+        obs, *_ = env.step(a[0])
+        start = False
+    return np.array(obs_list), np.array(starts)
+
+
+@pytest.mark.parametrize("algo", ["ppo", "sac", "ppo_lstm"])
+def test_portable_actions_match_torch_to_float32_precision(algo):
+    torch_policy = load_trained(PRETRAINED_DIR / algo)
+    portable = load_trained(PRETRAINED_DIR / algo, portable=True)
+    assert isinstance(portable, PortablePolicy) and portable.name == torch_policy.name
+    observations, starts = recorded(torch_policy)
+    st_t = st_p = None
+    worst = 0.0
+    actions = []
+    for obs, start in zip(observations, starts):
+        a_t, st_t = torch_policy.predict(obs[None], state=st_t, episode_start=np.array([start]))
+        a_p, st_p = portable.predict(obs[None], state=st_p, episode_start=np.array([start]))
+        assert a_p.dtype == np.float32 and a_p.shape == a_t.shape == (1, 1)
+        worst = max(worst, float(np.max(np.abs(a_t - a_p))))
+        actions.append(float(a_p[0, 0]))
+    assert worst <= TOLERANCE, f"{algo}: portable action {worst:.3g} away from torch's"
+    assert len(set(actions)) > 1            # the observations exercise the network
+
+
+def test_the_exported_file_is_the_models_weights():
+    sb3 = load_trained(PRETRAINED_DIR / "ppo_lstm")
+    in_memory = PortablePolicy(export_arrays(sb3.model, sb3.obs_rms, sb3.clip_obs, sb3.epsilon))
+    from_file = PortablePolicy.load(PRETRAINED_DIR / "ppo_lstm")
+    obs, starts = recorded(from_file, steps=10)
+    a, _ = in_memory.predict(obs[:1], episode_start=starts[:1])
+    b, _ = from_file.predict(obs[:1], episode_start=starts[:1])
+    np.testing.assert_array_equal(a, b)
+
+
+def test_the_recurrent_state_resets_at_an_episode_start():
+    pol = PortablePolicy.load(PRETRAINED_DIR / "ppo_lstm")
+    obs, _ = recorded(pol, steps=6)
+    fresh, _ = pol.predict(obs[3:4], state=None, episode_start=np.array([True]))
+    _, state = pol.predict(obs[:1], episode_start=np.array([True]))
+    _, state = pol.predict(obs[1:2], state=state, episode_start=np.array([False]))
+    carried, _ = pol.predict(obs[3:4], state=state, episode_start=np.array([False]))
+    reset, _ = pol.predict(obs[3:4], state=state, episode_start=np.array([True]))
+    np.testing.assert_array_equal(reset, fresh)
+    assert not np.array_equal(carried, fresh)       # the memory matters
+
+
+def test_an_unsupported_policy_is_refused_by_name():
+    class Fake:
+        policy = type("CnnPolicy", (), {})()
+    with pytest.raises(ValueError, match="no portable path for CnnPolicy"):
+        export_arrays(Fake())
+
+
+def test_an_export_of_other_model_files_is_not_used(tmp_path):
+    import shutil
+
+    from agents.evaluation.trained import export
+    from agents.policies.portable import is_current
+    d = tmp_path / "ppo"
+    shutil.copytree(PRETRAINED_DIR / "ppo", d)
+    export(d)
+    assert is_current(d)
+    shutil.copy(PRETRAINED_DIR / "sac" / "vec_normalize.pkl", d / "vec_normalize.pkl")   # another run's statistics
+    assert not is_current(d)
+    fresh = load_trained(d, portable=True)               # exported again from the files there now
+    torch_policy = load_trained(d)
+    obs, starts = recorded(torch_policy, steps=4)
+    a, _ = fresh.predict(obs[:1])
+    b, _ = torch_policy.predict(obs[:1])
+    assert float(np.max(np.abs(a - b))) <= TOLERANCE

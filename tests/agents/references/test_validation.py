@@ -1,0 +1,117 @@
+"""The validation-chosen constant: chosen on validation seeds only, stored, and read (not
+re-chosen) by the evaluation; the hindsight sweep covers the actuator's whole range."""
+
+import json
+
+import numpy as np
+import pytest
+
+from agents.references import validation as references
+from agents.evaluation.result import EvalResult
+from agents.leaderboard.compare import evaluate
+from agents.protocol import TEST, TRAIN, VALIDATION, preload_grid
+from agents.references.store import STORE_PATH, ValidationChoice, load_choice, save_choice
+from bearing_gym.envs.reward import REWARD_TERMS
+
+GRID = (300.0, 1150.0, 2000.0)
+
+
+def _choice(preload, seeds=(50_000, 50_001), means=(-3.0, -2.0, -1.0)):
+    return ValidationChoice("transient", preload, tuple(seeds), 850.0, GRID, means, 2)
+
+
+def test_a_choice_on_test_or_training_seeds_is_refused():
+    for bad in (TEST.start, TRAIN.start + 5):
+        with pytest.raises(ValueError, match="validation seeds"):
+            _choice(2000.0, seeds=(50_000, bad))
+    with pytest.raises(ValueError, match="best mean validation return"):
+        _choice(300.0)                                  # not the argmax of its own mean returns
+
+
+def test_a_store_holding_a_test_seed_does_not_load(tmp_path):
+    path = tmp_path / "store.json"
+    save_choice(_choice(2000.0), path)
+    data = json.loads(path.read_text())
+    data["tiers"]["transient"]["seeds"][1] = TEST.start
+    path.write_text(json.dumps(data))
+    with pytest.raises(ValueError, match="test range"):
+        load_choice("transient", path)
+    with pytest.raises(LookupError, match="python -m agents.references --tier paper"):
+        load_choice("paper", path)
+
+
+def test_the_committed_store_holds_only_validation_seeds():
+    tiers = json.loads(STORE_PATH.read_text())["tiers"]
+    for tier in tiers:
+        assert all(s in VALIDATION for s in load_choice(tier).seeds), tier
+
+
+def _fake_sweep(calls):
+    """A stand-in for constant_sweep that records its seeds: the best mean return at 1150 N."""
+    def sweep(preloads, episodes, seed, episode_steps, **kw):
+        calls.append((seed, episodes))
+        out = []
+        for p in preloads:
+            r = np.full(episodes, -abs(p - 1150.0) / 100.0)
+            out.append(EvalResult(f"constant {p:.0f} N", r, {k: r / len(REWARD_TERMS) for k in REWARD_TERMS},
+                                  np.zeros(episodes), np.full(episodes, p)))
+        return out
+    return sweep
+
+
+def test_the_choice_runs_on_validation_seeds_and_refuses_test_seeds_before_running(monkeypatch, tmp_path):
+    calls = []
+    monkeypatch.setattr(references, "constant_sweep", _fake_sweep(calls))
+    choice = references.choose_validation_constant("transient", episodes=4, episode_steps=2, grid_step_n=850.0)
+    assert calls == [(VALIDATION.start, 4)]
+    assert choice.seeds == tuple(range(VALIDATION.start, VALIDATION.start + 4)) and choice.preload_n == 1150.0
+    save_choice(choice, tmp_path / "s.json")
+    assert load_choice("transient", tmp_path / "s.json") == choice
+    with pytest.raises(ValueError, match="validation"):
+        references.choose_validation_constant("transient", episodes=2, seed=TEST.start)
+    with pytest.raises(ValueError, match="validation"):
+        references.choose_validation_constant("transient", episodes=3, seed=VALIDATION.stop - 2)
+    assert len(calls) == 1                              # nothing ran for the refused seeds
+
+
+def test_the_hindsight_grid_covers_the_whole_action_range_every_50_n():
+    grid = preload_grid(50.0)
+    assert grid[0] == 300.0 and grid[-1] == 2000.0 and len(grid) == 35
+    assert np.allclose(np.diff(grid), 50.0)
+    assert preload_grid(850.0) == GRID and preload_grid(800.0) == (300.0, 1100.0, 1900.0, 2000.0)
+
+
+@pytest.mark.parametrize("stored", [300.0, 2000.0])
+def test_evaluation_reads_the_stored_constant_instead_of_choosing_on_its_episodes(tmp_path, stored):
+    # a stored choice at either end of the range: at most one of them can be the test-best
+    means = (-1.0, -2.0, -3.0) if stored == 300.0 else (-3.0, -2.0, -1.0)
+    store = tmp_path / "store.json"
+    save_choice(_choice(stored, means=means), store)
+    res = evaluate(None, episodes=2, seed=TEST.start, episode_steps=2, out_dir=tmp_path / "ev", verbose=False,
+                   tier="transient", store_path=store, grid_step_n=850.0)
+    names = [r.name for r in res]
+    row = next(r for r in res if r.name == f"constant {stored:.0f} N (validation choice)")
+    assert sum("validation choice" in n for n in names) == 1
+    hindsight = next(r for r in res if "hindsight" in r.name)
+    assert np.all(hindsight.returns >= row.returns)     # the stored constant is a hindsight candidate
+    assert "chosen on the validation seeds, not on these" in (tmp_path / "ev" / "evaluation.md").read_text()
+    # without a stored choice there is no such row (and nothing is chosen on the test episodes)
+    res = evaluate(None, episodes=2, seed=TEST.start, episode_steps=2, out_dir=tmp_path / "none", verbose=False,
+                   tier="transient", store_path=tmp_path / "empty.json", grid_step_n=850.0)
+    assert not any("validation choice" in r.name for r in res)
+
+
+def test_one_validation_episode_is_the_protocol_only_on_a_deterministic_tier():
+    grid = preload_grid(50.0)
+    means = tuple(-float(k) for k in range(len(grid)))
+    one = {tier: ValidationChoice(tier, grid[0], (VALIDATION.start,), 50.0, grid, means, 150,
+                                  episode_returns=tuple((m,) for m in means))
+           for tier in ("paper", "transient")}
+    assert one["paper"].protocol_problems() == []
+    assert one["transient"].protocol_problems() == ["1 validation episodes (the protocol: 50)"]
+    # the learning curves score every validation episode of a paper run against the one stored
+    seeds = range(VALIDATION.start, VALIDATION.start + 3)
+    r0, r1 = one["paper"].validation_references(seeds)
+    assert r0.shape == r1.shape == (3,) and len(set(r0)) == 1 and np.all(r1 >= r0)
+    with pytest.raises(ValueError, match="not one of the stored validation episodes"):
+        one["transient"].validation_references(seeds)

@@ -1,0 +1,215 @@
+"""train.py at smoke scale: the RL Zoo hyperparameter files, training, saving, reloading,
+validation during training, RecurrentPPO's memory."""
+
+import csv
+import json
+import pickle
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+import yaml
+
+
+ROOT = Path(__file__).resolve().parents[3]
+
+
+def test_hyperparameter_files_load_for_rl_zoo_and_sb3():
+    sys.path.insert(0, str(ROOT))
+    import train
+    from sb3_contrib import RecurrentPPO
+    from stable_baselines3 import PPO, SAC
+
+    from agents.protocol import STEP_BUDGET_PER_RUN
+    from bearing_gym.envs import BearingPreloadSB3VecEnv
+    for algo, cls, policy in (("ppo", PPO, "MlpPolicy"), ("sac", SAC, "MlpPolicy"),
+                              ("ppo_lstm", RecurrentPPO, "MlpLstmPolicy")):
+        cfg = yaml.safe_load((ROOT / "agents" / "hyperparams" / f"{algo}.yml").read_text())
+        entry = cfg["BearingPreload-v0"]
+        # RL Zoo trains the protocol's budget, the same for every algorithm
+        assert entry["policy"] == policy and entry["n_timesteps"] == STEP_BUDGET_PER_RUN
+        assert isinstance(entry["policy_kwargs"], str)          # RL Zoo evaluates it
+        cls(policy, BearingPreloadSB3VecEnv(num_envs=1, scenario="paper"), **train.hyperparams(algo))
+
+
+@pytest.mark.parametrize("algo", ["ppo", "sac"])
+def test_smoke_training_saves_reloads_and_evaluates(algo, tmp_path, capsys):
+    sys.path.insert(0, str(ROOT))
+    import train
+    out = tmp_path / algo
+    rc = train.main(["--algo", algo, "--timesteps", "128", "--n-envs", "2", "--out", str(out),
+                     "--episode-steps", "16", "--eval-episodes", "2", "--eval-freq", "64",
+                     "--val-episodes", "2", "--checkpoint-freq", "64", "--no-progress"])
+    assert rc == 0
+    for name in ("model.zip", "vec_normalize.pkl", "last_model.zip", "last_vec_normalize.pkl",
+                 "config.json", "leaderboard.md", "leaderboard.json", "eval/best.json", "eval/validation_returns.npz"):
+        assert (out / name).exists(), name
+    cfg = json.loads((out / "config.json").read_text())
+    assert cfg["num_timesteps"] >= 128
+    # it says what it does, in plain lines: kernels, training progress up to the step count the
+    # run really reaches (no 36,352/36,000), validations, evaluation progress, where the outputs are
+    printed = capsys.readouterr().out
+    assert "numba kernels: ready" in printed and "validation at 64 steps" in printed
+    n = cfg["num_timesteps"]
+    assert f"training: 0 -> {n:,} steps" in printed and f"training: {n:,}/{n:,} steps (100 %)" in printed
+    # 16-step episodes are not the stored references' 150: the board computes the hindsight here
+    assert "transient 1/3: constant sweep" in printed and "step 16/16 (100 %)" in printed
+    announced = printed.split("outputs in")[1].splitlines()[1:]
+    for what, name in (("model", "model.zip"), ("leaderboard", "leaderboard.md"),
+                       ("tensorboard logs", "tensorboard")):
+        line = next(x for x in announced if x.strip().startswith(what))
+        assert str(out / name) in line and (out / name).exists(), line
+    # model.zip is the best validation checkpoint, with the statistics saved with it
+    best = json.loads((out / "eval" / "best.json").read_text())
+    assert cfg["selected"] == "best validation checkpoint" and cfg["selected_timesteps"] == best["num_timesteps"]
+    assert (out / "model.zip").read_bytes() == (out / "eval" / "best_model.zip").read_bytes()
+    assert (out / "vec_normalize.pkl").read_bytes() == (out / "eval" / "best_vec_normalize.pkl").read_bytes()
+    text = (out / "leaderboard.md").read_text()
+    assert f"{algo.upper()} (this run" in text and "validation constant" in text and "hindsight constant" in text
+    assert "contextual constant" in text and "oracle" in text
+    board = json.loads((out / "leaderboard.json").read_text())["tiers"]["transient"]
+    assert board["episodes"] == 2 and board["episode_steps"] == 16 and not board["protocol"]
+    # the per-seed validation returns of the learning curves: one row per validation, env i = seed 50000 + i
+    with np.load(out / "eval" / "validation_returns.npz") as log:
+        assert list(log["seeds"]) == [50000, 50001] and log["returns"].shape == (len(log["timesteps"]), 2)
+        with np.load(out / "eval" / "evaluations.npz") as sb3_log:   # SB3's log holds the same returns
+            np.testing.assert_allclose(np.sort(log["returns"], axis=1), np.sort(sb3_log["results"], axis=1), rtol=1e-6)
+    # VecNormalize statistics survive save/load
+    with (out / "vec_normalize.pkl").open("rb") as fh:
+        vn = pickle.load(fh)
+    assert vn.obs_rms.count > best["num_timesteps"] and np.all(np.isfinite(vn.obs_rms.mean)) and np.any(vn.obs_rms.var != 1.0)
+    with (out / "last_vec_normalize.pkl").open("rb") as fh:
+        assert pickle.load(fh).obs_rms.count > 128
+    from agents.leaderboard.compare import evaluate
+    from agents.evaluation.trained import load_trained
+    pol = load_trained(out)
+    np.testing.assert_array_equal(pol.obs_rms.mean, vn.obs_rms.mean)
+    assert f"{best['num_timesteps']:,} steps" in pol.name
+    # several trained policies side by side, on the same scenarios as the baselines
+    res = evaluate([out, out], episodes=2, episode_steps=4, seed=100000, out_dir=tmp_path / "side", verbose=False)
+    trained = [r for r in res if "(trained" in r.name]
+    assert len(trained) == 2 and np.array_equal(trained[0].returns, trained[1].returns)
+    assert (tmp_path / "side" / "evaluation.md").read_text().count("(trained") >= 2
+    # every episode's return, per policy, with its scenario seed
+    with (tmp_path / "side" / "evaluation_episodes.csv").open() as fh:
+        per_episode = list(csv.DictReader(fh))
+    assert [int(row["seed"]) for row in per_episode] == [100000, 100001]
+    for r in res:
+        assert [float(row[r.name]) for row in per_episode] == list(r.returns)
+    # resumable; --timesteps is the total: a resumed run continues up to it (SB3 stops at the first
+    # rollout boundary at or past it), and one that is already there trains no further
+    def resume(total: int) -> int:
+        rc = train.main(["--algo", algo, "--timesteps", str(total), "--n-envs", "2", "--out", str(out), "--resume",
+                         "--episode-steps", "16", "--eval-episodes", "0", "--eval-freq", "64",
+                         "--val-episodes", "2", "--checkpoint-freq", "64", "--no-progress"])
+        assert rc == 0
+        return json.loads((out / "config.json").read_text())["num_timesteps"]
+    done = cfg["num_timesteps"]
+    history = np.load(out / "eval" / "evaluations.npz")["timesteps"]
+    capsys.readouterr()
+    resumed = resume(done + 64)
+    # the validation history goes on from the earlier session's
+    continued = np.load(out / "eval" / "evaluations.npz")["timesteps"]
+    assert len(continued) > len(history) and np.array_equal(continued[:len(history)], history)
+    assert resumed >= done + 64
+    printed = capsys.readouterr().out
+    assert "resuming from" in printed
+    # SAC checkpoints its replay buffer, and a resumed run continues with it
+    buffers = sorted((out / "checkpoints").glob("model_replay_buffer_*_steps.pkl"))
+    assert bool(buffers) == (algo == "sac")
+    assert "no replay buffer" not in printed
+    # the wall time in config.json covers every session of the run
+    assert json.loads((out / "config.json").read_text())["train_wall_s"] > cfg["train_wall_s"]
+    assert resume(resumed) == resumed
+    if algo == "sac":   # a checkpoint without its buffer (an older run): refill before training
+        for b in buffers:
+            b.unlink()
+        capsys.readouterr()
+        assert resume(resumed + 64) >= resumed + 64
+        assert "no replay buffer" in capsys.readouterr().out
+    # a new run in the same directory starts its validation afresh: with no validation before
+    # its end, model.zip is its own final weights, not the earlier run's best checkpoint
+    rc = train.main(["--algo", algo, "--timesteps", "16", "--n-envs", "2", "--out", str(out),
+                     "--episode-steps", "16", "--eval-episodes", "0", "--eval-freq", "1000000",
+                     "--val-episodes", "2", "--checkpoint-freq", "64", "--no-progress"])
+    assert rc == 0
+    cfg = json.loads((out / "config.json").read_text())
+    assert cfg["selected"] == "final weights" and not (out / "eval" / "best.json").exists()
+    assert (out / "model.zip").read_bytes() == (out / "last_model.zip").read_bytes()
+
+
+def test_train_env_defaults_to_at_most_numbas_threads(monkeypatch):
+    """With NUMBA_NUM_THREADS below the env count (a user limiting threads), train.py's default
+    thread count follows numba's, not the cores: it builds the envs instead of refusing."""
+    import numba
+    sys.path.insert(0, str(ROOT))
+    import train
+    monkeypatch.setattr(numba.config, "NUMBA_NUM_THREADS", 1)
+    env = train.make_env(2, seed=0, episode_steps=4, tier="transient")
+    try:
+        assert env.num_envs == 2 and env.venv.venv.num_threads == 1
+    finally:
+        env.close()
+
+
+def test_validation_scores_every_checkpoint_on_the_same_scenarios(tmp_path, capsys):
+    """The same policy evaluated twice by ValidationCallback gets the same returns (fixed
+    validation scenarios); SB3's plain EvalCallback draws new scenarios each time."""
+    sys.path.insert(0, str(ROOT))
+    import train
+    from stable_baselines3 import PPO
+    from stable_baselines3.common.callbacks import EvalCallback
+    from stable_baselines3.common.logger import configure as configure_logger
+    from stable_baselines3.common.vec_env import VecNormalize
+    from agents.training.callbacks import ValidationCallback
+    env = VecNormalize(train.make_env(2, 0, 6, "transient"))
+    model = PPO("MlpPolicy", env, n_steps=8, batch_size=8, seed=0, device="cpu")
+    model.set_logger(configure_logger(None, []))
+
+    def two_evaluations(cls, path, **kw):
+        val = VecNormalize(train.make_env(2, 50000, 6, "transient"), training=False, norm_reward=False)
+        cb = cls(val, n_eval_episodes=2, eval_freq=1, log_path=str(path), best_model_save_path=str(path), **kw)
+        cb.init_callback(model)
+        cb.on_step()
+        cb.on_step()
+        return np.array(cb.evaluations_results)
+    fixed = two_evaluations(ValidationCallback, tmp_path / "fixed", validation_seed=50000, progress_every_s=0.0)
+    np.testing.assert_array_equal(fixed[0], fixed[1])
+    # each evaluation is announced, then says how far it is (here at every step: 2 envs x 6 steps)
+    blocks = capsys.readouterr().out.split("validation at ")[1:]
+    assert len(blocks) == 2
+    for block in blocks:
+        done = [int(line.split()[1].split("/")[0]) for line in block.splitlines() if line.startswith("validation: ")]
+        assert len(done) >= 6 and done == sorted(done) and done[0] == 0 and done[-1] >= 1
+    assert (tmp_path / "fixed" / "best_vec_normalize.pkl").exists()
+    drawn = two_evaluations(EvalCallback, tmp_path / "drawn")
+    assert not np.array_equal(np.sort(drawn[0]), np.sort(drawn[1]))
+
+
+def test_recurrent_ppo_trains_saves_and_keeps_its_memory_in_evaluation(tmp_path):
+    """train.py --algo ppo_lstm (sb3-contrib's RecurrentPPO, RL Zoo's name) trains, saves and
+    loads; evaluation carries the LSTM state through an episode: the policy's action on the
+    same observation differs with what it has seen before."""
+    sys.path.insert(0, str(ROOT))
+    import train
+    out = tmp_path / "lstm"
+    rc = train.main(["--algo", "ppo_lstm", "--timesteps", "64", "--n-envs", "2", "--out", str(out),
+                     "--episode-steps", "8", "--eval-episodes", "0", "--eval-freq", "32", "--val-episodes", "2",
+                     "--checkpoint-freq", "32", "--no-progress"])
+    assert rc == 0
+    cfg = json.loads((out / "config.json").read_text())
+    assert cfg["algo"] == "ppo_lstm" and cfg["num_timesteps"] >= 64
+    from sb3_contrib import RecurrentPPO
+
+    from agents.evaluation.trained import load_trained
+    pol = load_trained(out)
+    assert isinstance(pol.model, RecurrentPPO)
+    rng = np.random.default_rng(0)
+    obs = rng.uniform(-1, 1, (1, 15)).astype(np.float32)
+    a0, state = pol.predict(obs, state=None, episode_start=np.array([True]))
+    for _ in range(5):
+        _, state = pol.predict(rng.uniform(-1, 1, (1, 15)).astype(np.float32), state=state,
+                               episode_start=np.array([False]))
+    a1, _ = pol.predict(obs, state=state, episode_start=np.array([False]))
+    assert not np.array_equal(a0, a1)
