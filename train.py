@@ -34,7 +34,7 @@ import time
 from pathlib import Path
 
 from agents.protocol import STEP_BUDGET_PER_RUN, TEST, VALIDATION, VALIDATION_EPISODES_IN_TRAINING, VALIDATION_EVERY_STEPS
-from bearing_gym.benchmark import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
+from bearing_gym.task import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
 
 PROGRESS_EVERY_S = 30.0     # at most one progress line per this many seconds
 ALGOS = ("ppo", "sac", "ppo_lstm")

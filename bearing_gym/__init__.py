@@ -18,7 +18,7 @@ __all__ = ["default_params", "BearingParams", "BearingGeometry", "Material", "Ro
 def _register() -> None:
     import gymnasium
 
-    from .benchmark import EPISODE_STEPS
+    from .task import EPISODE_STEPS
 
     if "BearingPreload-v0" not in gymnasium.registry:
         gymnasium.register(

@@ -1,4 +1,4 @@
-"""Accuracy of the env's integrator (``bearing_gym.benchmark.ENV_DT_S``, ``ENV_NEWMARK_TOL_M``)
+"""Accuracy of the env's integrator (``bearing_gym.task.ENV_DT_S``, ``ENV_NEWMARK_TOL_M``)
 against a four times smaller step at the library's tight tolerance.
 
     python benchmarks/bench_accuracy.py            # table, ~12 min on a 2-core machine
@@ -36,7 +36,7 @@ import bench_cli  # noqa: E402
 
 from bearing_gym.analysis.sweeps.points import SweepSettings, continuation_chain  # noqa: E402
 from bearing_gym.analysis.sweeps.results import critical_preload  # noqa: E402
-from bearing_gym.benchmark import ENV_DT_S, ENV_NEWMARK_TOL_M  # noqa: E402
+from bearing_gym.task import ENV_DT_S, ENV_NEWMARK_TOL_M  # noqa: E402
 from bearing_gym.params import default_params  # noqa: E402
 from bearing_gym.physics import Simulator  # noqa: E402
 

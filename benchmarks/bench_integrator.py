@@ -29,9 +29,7 @@ Times are wall-clock ``time.perf_counter``; each timing is repeated and the mini
 from __future__ import annotations
 
 import os
-import platform
 import statistics
-import subprocess
 import sys
 import time
 from pathlib import Path
@@ -41,7 +39,6 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
-import numba  # noqa: E402
 from numba import njit  # noqa: E402
 
 import bearing_gym  # noqa: E402
@@ -70,35 +67,7 @@ SETTINGS = {
 
 
 # ---------------------------------------------------------------------------------------------
-def machine_info() -> dict:
-    cpu = "unknown"
-    try:
-        for line in Path("/proc/cpuinfo").read_text().splitlines():
-            if line.startswith("model name"):
-                cpu = line.split(":", 1)[1].strip()
-                break
-    except OSError:
-        pass
-    try:
-        commit = subprocess.run(["git", "rev-parse", "--short", "HEAD"], cwd=HERE, text=True,
-                                capture_output=True, timeout=5).stdout.strip() or None
-        dirty = bool(subprocess.run(
-            ["git", "status", "--porcelain", "--untracked-files=no", "--", "bearing_gym"],
-            cwd=HERE.parent, text=True, capture_output=True, timeout=5).stdout.strip())
-    except (OSError, subprocess.SubprocessError):
-        commit, dirty = None, None
-    return {
-        "cpu_model": cpu,
-        "logical_cpus": os.cpu_count(),
-        "load_average_1min_at_start": round(os.getloadavg()[0], 2),
-        "platform": platform.platform(),
-        "python": platform.python_version(),
-        "numpy": np.__version__,
-        "numba": numba.__version__,
-        "bearing_gym": bearing_gym.__version__,
-        "git_commit": commit,
-        "package_has_uncommitted_changes": dirty,
-    }
+machine_info = bench_cli.machine_info
 
 
 @njit(cache=False)

@@ -297,7 +297,7 @@ def _train_measurement(spec: dict) -> dict:
     from stable_baselines3.common.vec_env import VecNormalize
 
     import train
-    from bearing_gym.benchmark import DEFAULT_TIER, EPISODE_STEPS
+    from bearing_gym.task import DEFAULT_TIER, EPISODE_STEPS
 
     torch.set_num_threads(1)                     # as train.py
     algo = spec["kind"]
@@ -360,7 +360,7 @@ def _eval_measurement(spec: dict) -> dict:
         import agents.evaluate as ev
         loop = ev
     from agents import ConstantPreload        # in both layouts (the flat agents/ too)
-    from bearing_gym.benchmark import EPISODE_STEPS
+    from bearing_gym.task import EPISODE_STEPS
 
     episode_steps = spec["eval_episode_steps"] or EPISODE_STEPS
     t0 = time.perf_counter()        # kernel load on seeds that are not the test seeds
@@ -435,15 +435,7 @@ def tree_info(path: Path) -> dict:
 
 
 def machine() -> dict:
-    cpu = "unknown"
-    try:
-        cpu = next((ln.split(":", 1)[1].strip() for ln in Path("/proc/cpuinfo").read_text().splitlines()
-                    if ln.startswith("model name")), cpu)
-    except OSError:
-        pass
-    import platform
-    return {"cpu_model": cpu, "logical_cpus": os.cpu_count(), "python": platform.python_version(),
-            "platform": platform.platform()}
+    return bench_cli.machine_info(packages=False)
 
 
 def run_worker(tree: Path, cache: str | None, spec: dict) -> dict:

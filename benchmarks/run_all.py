@@ -66,7 +66,7 @@ import numba  # noqa: E402
 
 import bearing_gym  # noqa: E402
 from bearing_gym.analysis.signals import peak_to_peak  # noqa: E402
-from bearing_gym.benchmark import EPISODE_STEPS  # noqa: E402
+from bearing_gym.task import EPISODE_STEPS  # noqa: E402
 from bearing_gym.physics import Simulator  # noqa: E402
 from bearing_gym.physics import ball as ball_mod  # noqa: E402
 from bearing_gym.physics import rotor as rotor_mod  # noqa: E402

@@ -2,7 +2,7 @@
 
 Layers, lowest first (a module may import its own layer and those below):
 
-    validation, units, serialization, benchmark (and the numba cache set-up)
+    validation, units, serialization, task (and the numba cache set-up)
     < params (and the package's __init__)
     < physics < analysis < envs < reproduction < cli (and ``python -m bearing_gym``)
 
@@ -29,7 +29,7 @@ AGENTS = ROOT / "agents"
 
 LAYERS = (
     ("base", ("bearing_gym._numba_cache", "bearing_gym.validation", "bearing_gym.units",
-              "bearing_gym.serialization", "bearing_gym.benchmark")),
+              "bearing_gym.serialization", "bearing_gym.task")),
     ("params", ("bearing_gym.params", "bearing_gym")),
     ("physics", ("bearing_gym.physics",)),
     ("analysis", ("bearing_gym.analysis",)),

@@ -62,7 +62,7 @@ from typing import Any
 
 import numpy as np
 
-from bearing_gym.benchmark import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
+from bearing_gym.task import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
 from bearing_gym.envs.tiers import tier_is_deterministic
 
 from agents import protocol as P

@@ -24,7 +24,7 @@ from typing import Any
 
 import numpy as np
 
-from bearing_gym.benchmark import CONTROL_DT_S
+from bearing_gym.task import CONTROL_DT_S
 from bearing_gym.envs.tiers import tier_parts
 
 from agents.leaderboard import scoring

@@ -33,7 +33,7 @@ from typing import Any
 
 import numpy as np
 
-from bearing_gym.benchmark import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
+from bearing_gym.task import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
 from bearing_gym.envs.provenance import kernel_hash
 
 from agents.evaluation.trained import PRETRAINED_DIR, load_trained, shipped_dirs

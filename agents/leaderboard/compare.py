@@ -23,7 +23,7 @@ import argparse
 import dataclasses
 from pathlib import Path
 
-from bearing_gym.benchmark import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
+from bearing_gym.task import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
 
 from agents.leaderboard.compare_report import write_report
 from agents.evaluation.result import EvalResult

@@ -23,7 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from bearing_gym.benchmark import DEFAULT_TIER, EPISODE_STEPS
+from bearing_gym.task import DEFAULT_TIER, EPISODE_STEPS
 
 from agents.leaderboard import scoring
 from agents.references.store import STORE_PATH, load_choice

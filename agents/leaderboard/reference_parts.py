@@ -31,7 +31,7 @@ from typing import Any
 
 import numpy as np
 
-from bearing_gym.benchmark import DEFAULT_TIER, TIER_NAMES
+from bearing_gym.task import DEFAULT_TIER, TIER_NAMES
 from bearing_gym.envs.provenance import kernel_hash
 
 from agents.policies import mpc as mpc_module

@@ -11,7 +11,7 @@ import json
 from pathlib import Path
 from typing import Any
 
-from bearing_gym.benchmark import TIER_NAMES
+from bearing_gym.task import TIER_NAMES
 
 from agents import protocol as P
 from agents.paths import docs_dir, runs_dir

@@ -10,7 +10,7 @@ import dataclasses
 from dataclasses import dataclass
 from typing import Any
 
-from bearing_gym.benchmark import EPISODE_STEPS
+from bearing_gym.task import EPISODE_STEPS
 
 from agents import protocol as P
 from agents.leaderboard import scoring

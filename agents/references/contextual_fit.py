@@ -19,7 +19,7 @@ from pathlib import Path
 
 import numpy as np
 
-from bearing_gym.benchmark import EPISODE_STEPS
+from bearing_gym.task import EPISODE_STEPS
 
 from agents.evaluation.episodes import constant_sweep
 from agents.references.sweep_cli import parse_sweep, sweep_parser

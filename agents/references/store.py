@@ -118,7 +118,7 @@ class ValidationChoice:
     def protocol_problems(self) -> list[str]:
         """What keeps this entry from being the protocol's (empty if nothing): too few
         episodes, short episodes, another grid."""
-        from bearing_gym.benchmark import EPISODE_STEPS
+        from bearing_gym.task import EPISODE_STEPS
         out = []
         want = validation_episodes(self.tier)
         if self.episodes < want:

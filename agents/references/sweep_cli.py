@@ -9,7 +9,7 @@ from typing import Callable
 
 import numpy as np
 
-from bearing_gym.benchmark import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
+from bearing_gym.task import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
 
 from agents.protocol import preload_grid
 

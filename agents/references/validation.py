@@ -35,7 +35,7 @@ from typing import Any, Sequence
 
 import numpy as np
 
-from bearing_gym.benchmark import EPISODE_STEPS
+from bearing_gym.task import EPISODE_STEPS
 from bearing_gym.envs.reward import REWARD_TERMS
 
 from agents.policies.contextual import ContextualConstant

@@ -18,7 +18,7 @@ import dataclasses
 from pathlib import Path
 from typing import Any
 
-from bearing_gym.benchmark import EPISODE_STEPS
+from bearing_gym.task import EPISODE_STEPS
 from bearing_gym.envs.tiers import tier_is_deterministic
 
 from agents import protocol as P

@@ -41,7 +41,7 @@ import sys
 import time
 from pathlib import Path
 
-from bearing_gym.benchmark import DEFAULT_TIER
+from bearing_gym.task import DEFAULT_TIER
 
 from agents import protocol as P
 from agents.paths import PRETRAINED_DIR, TRAINED_DIR, checkout_root, require_checkout, runs_dir

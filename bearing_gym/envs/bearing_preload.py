@@ -35,7 +35,7 @@ class BearingPreloadEnv(TaskParts, gym.Env):
     preload of the operating point it is in and follow it when the operating point changes.
 
     Each ``step`` advances the physics (Newmark-beta, dt = 25 us with a 1e-10 m equilibrium
-    tolerance: ``bearing_gym.benchmark.ENV_DT_S``, checked against dt/4 in
+    tolerance: ``bearing_gym.task.ENV_DT_S``, checked against dt/4 in
     ``benchmarks/bench_accuracy.py``) by one control interval
     (``control_dt_s``, 20 ms: 6.7 shaft turns at 20,000 rpm, enough Poincare points for the
     quasi-periodicity index of one interval).

@@ -17,7 +17,7 @@ from collections import OrderedDict
 import numpy as np
 
 from bearing_gym.analysis.signals import QPI_THRESHOLD
-from bearing_gym.benchmark import ENV_DT_S, ENV_NEWMARK_TOL_M
+from bearing_gym.task import ENV_DT_S, ENV_NEWMARK_TOL_M
 
 from .features import F_QPI, N_FEATURES
 from bearing_gym.params import BearingParams, RaceWaviness, Waviness, default_params
@@ -63,7 +63,7 @@ def scenario_params(base: BearingParams, scenario: Scenario) -> BearingParams:
 def env_params(**overrides) -> BearingParams:
     """The env's default physics parameters: :func:`~bearing_gym.params.default_params` with the
     env's integrator (``ENV_DT_S`` = 25 us, ``ENV_NEWMARK_TOL_M`` = 1e-10 m; see
-    :mod:`bearing_gym.benchmark`), then ``overrides`` (flat keywords, as for ``default_params``).
+    :mod:`bearing_gym.task`), then ``overrides`` (flat keywords, as for ``default_params``).
     Pass ``params=env_params(...)`` to vary the spindle and keep the env's integrator; a
     ``params`` built by ``default_params`` runs at the library's 10 us / 1e-13 m instead."""
     return default_params(**{"dt_s": ENV_DT_S, "newmark_tol_m": ENV_NEWMARK_TOL_M, **overrides})

@@ -13,7 +13,7 @@ made by another kernel.
 Computing it takes a few seconds, so it is cached on disk beside the numba cache, keyed by
 :func:`source_hash` (the tokens of the code that feeds the state, an observation or the reward:
 ``physics/``, ``envs/`` without rendering and the reward-map tool, ``params.py``, ``units.py``,
-``benchmark.py``, ``analysis/signals.py``; comments and docstrings left out) and the NumPy,
+``task.py``, ``analysis/signals.py``; comments and docstrings left out) and the NumPy,
 numba and Python versions.
 """
 
@@ -29,7 +29,7 @@ __all__ = ["kernel_hash", "source_hash", "package_version", "KERNEL_SOURCES", "F
 
 _ROOT = Path(__file__).resolve().parents[1]
 FINGERPRINT_STEPS = 40
-KERNEL_SOURCES = ("physics", "envs", "params.py", "units.py", "benchmark.py", "analysis/signals.py")
+KERNEL_SOURCES = ("physics", "envs", "params.py", "units.py", "task.py", "analysis/signals.py")
 _NOT_KERNEL = {"envs/rendering.py", "envs/reward_map.py"}
 
 

@@ -31,7 +31,7 @@ from __future__ import annotations
 
 from typing import Any
 
-from bearing_gym.benchmark import CONTROL_DT_S, DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
+from bearing_gym.task import CONTROL_DT_S, DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
 
 from .actuator import PreloadActuator
 from .observation import ObservationModel
@@ -55,7 +55,7 @@ TIERS: dict[str, dict[str, Any]] = {
 }
 
 
-assert tuple(TIERS) == TIER_NAMES, "bearing_gym.benchmark.TIER_NAMES must name the tiers in order"
+assert tuple(TIERS) == TIER_NAMES, "bearing_gym.task.TIER_NAMES must name the tiers in order"
 
 
 def tier_parts(tier: str) -> dict[str, Any]:

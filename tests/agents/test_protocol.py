@@ -32,7 +32,7 @@ def test_training_and_evaluation_use_the_registered_definition():
 
     import train
     from agents.leaderboard.compare import build_parser as evaluate_parser
-    from bearing_gym.benchmark import DEFAULT_TIER, EPISODE_STEPS
+    from bearing_gym.task import DEFAULT_TIER, EPISODE_STEPS
     spec = gym.spec("BearingPreload-v0")
     assert spec.max_episode_steps == EPISODE_STEPS
     assert gym.make("BearingPreload-v0").unwrapped.tier == DEFAULT_TIER

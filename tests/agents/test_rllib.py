@@ -23,7 +23,7 @@ import gymnasium
 import pytest
 
 import bearing_gym  # noqa: F401 - registers BearingPreload-v0
-from bearing_gym.benchmark import EPISODE_STEPS
+from bearing_gym.task import EPISODE_STEPS
 from bearing_gym.envs.reward import VibrationFirstReward
 
 README = Path(__file__).resolve().parents[2] / "README.md"

@@ -11,7 +11,7 @@ sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
 
 import bench_accuracy  # noqa: E402
 
-from bearing_gym.benchmark import ENV_DT_S, ENV_NEWMARK_TOL_M  # noqa: E402
+from bearing_gym.task import ENV_DT_S, ENV_NEWMARK_TOL_M  # noqa: E402
 from bearing_gym.envs import BearingPreloadEnv, env_params  # noqa: E402
 
 

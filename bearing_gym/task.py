@@ -1,5 +1,5 @@
-"""The benchmark's definition in numbers: one control interval, one horizon and the tier names,
-for the registration's time limit, training and evaluation alike. Imports nothing, so that
+"""The task's definition in numbers (BearingPreload-v0): one control interval, one horizon and
+the tier names, for the registration's time limit, training and evaluation alike. Imports nothing, so that
 ``import bearing_gym`` can register the env and scripts can build their options without
 loading the env (the tiers' parts are in :mod:`bearing_gym.envs.tiers`)."""
 
