@@ -257,6 +257,23 @@ class PreloadBatch:
         run(todo, SETTLE_TAIL_INTERVALS, self.n_sub)
         self.sched[todo] = real_sched
 
+    #: every per-env array of the batch (first axis = env): what :meth:`copy_env` copies
+    _PER_ENV = ("prm", "race_wav", "n_race", "ball_wav", "n_ball", "ball_phase", "ball_size", "X", "V", "A",
+                "scal", "psi_b", "ball_v", "ball_out", "env_state", "sched", "rec", "rows", "status", "feats",
+                "start_failed")
+
+    def copy_env(self, src: int, dst) -> None:
+        """Make env(s) ``dst`` exact copies of env ``src``: its scenario, operating point,
+        integrator and actuator state, down to the last bit, so that the copies continue the
+        same episode identically under the same set-points (a branch point, e.g. for a planner
+        that tries other set-points from here on)."""
+        dst = np.atleast_1d(np.asarray(dst, dtype=np.int64))
+        for name in self._PER_ENV:
+            arr = getattr(self, name)
+            arr[dst] = arr[src]
+        for d in dst:
+            self.scenarios[int(d)] = self.scenarios[src]
+
     def step(self, setpoints: np.ndarray, active: np.ndarray) -> None:
         """One control interval of the envs ``active`` towards their ``setpoints`` (N)."""
         self._kernel(setpoints, active & ~self.start_failed, self.n_sub)

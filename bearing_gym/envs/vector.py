@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+import copy
+
 from collections import deque
 from typing import Any, Sequence
 
@@ -139,6 +141,34 @@ class BearingPreloadVectorEnv(TaskParts, VectorEnv):
             self._frame_poincare[b].clear()
             self._frame_orbit[b] = None
         return self.task.reset_outputs(idx, rngs)
+
+    def copy_env(self, src: int, dst) -> None:
+        """Make env(s) ``dst`` exact copies of env ``src`` mid-episode: the physics
+        (:meth:`PreloadBatch.copy_env`), the steps taken, the sensor model's state and the random
+        generator, so that a copy stepped with the same actions gives the same observations,
+        rewards and ends, bit for bit. A planner's branch point: roll copies forward under other
+        actions while env ``src`` keeps its own course."""
+        if not 0 <= int(src) < self.num_envs:
+            raise ValueError(f"src must be an env index in [0, {self.num_envs}), got {src!r}")
+        dst = np.atleast_1d(np.asarray(dst, dtype=np.int64))
+        if dst.size and (dst.min() < 0 or dst.max() >= self.num_envs or np.any(dst == src)):
+            raise ValueError(f"dst must be env indices in [0, {self.num_envs}) other than src = {src}, got {dst.tolist()}")
+        src = int(src)
+        self.batch.copy_env(src, dst)
+        state = self.task.sensor_state
+        for arr in (state.values() if isinstance(state, dict) else [state]):
+            if isinstance(arr, np.ndarray) and arr.shape[:1] == (self.num_envs,):
+                arr[dst] = arr[src]
+        for d in dst:
+            d = int(d)
+            self._elapsed[d] = self._elapsed[src]
+            self._autoreset[d] = self._autoreset[src]
+            self._rng(src)
+            self._rngs[d] = copy.deepcopy(self._rngs[src])
+            self._rng_seeds[d] = self._rng_seeds[src]
+            self._frame_history[d] = copy.deepcopy(self._frame_history[src])
+            self._frame_poincare[d] = copy.deepcopy(self._frame_poincare[src])
+            self._frame_orbit[d] = self._frame_orbit[src]
 
     @property
     def scenarios(self) -> tuple:

@@ -1,0 +1,128 @@
+"""The planner (:mod:`agents.policies.planner`) on a tier's test episodes, resumable: one small JSON
+file per episode, written as it finishes, so a run spread over sessions loses at most the episode
+it was on.
+
+    python -m agents.references.planner_runs --tier transient --status
+    python -m agents.references.planner_runs --tier transient --until 14:20     # episodes while one can finish by then
+    python -m agents.references.planner_runs --tier transient --next 5
+
+Files: ``agents/data/planner_<tier>/seed_<seed>.json`` (the plan, its return, the hindsight
+constant it started from, the search's cost, the kernel fingerprint and the planner settings).
+An episode made by another kernel or with other settings counts as missing and is planned again.
+The test episodes are the protocol's (``TEST.start`` on, ``episodes_for_tier``).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from datetime import datetime, timedelta
+from pathlib import Path
+
+from bearing_gym.envs.provenance import kernel_hash
+from bearing_gym.task import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
+
+from agents.paths import DATA_DIR
+from agents.policies.planner import PlannerSettings, PlanResult, plan_episode
+from agents.protocol import TEST, TEST_EPISODES, episodes_for_tier
+
+__all__ = ["planner_dir", "episode_path", "missing", "load_plans", "run", "main"]
+
+#: measured on the 2-core development VM (one episode, the other core busy): the --until estimate
+NOMINAL_EPISODE_S = 120.0
+
+
+def planner_dir(tier: str, data_dir: Path = DATA_DIR) -> Path:
+    return data_dir / f"planner_{tier}"
+
+
+def episode_path(tier: str, seed: int, data_dir: Path = DATA_DIR) -> Path:
+    return planner_dir(tier, data_dir) / f"seed_{seed}.json"
+
+
+def _seeds(tier: str, episodes: int | None) -> list[int]:
+    n = episodes_for_tier(tier, TEST_EPISODES if episodes is None else episodes)
+    return [TEST.start + i for i in range(n)]
+
+
+def _fresh(path: Path, settings: PlannerSettings, episode_steps: int) -> bool:
+    try:
+        d = json.loads(path.read_text())
+    except (OSError, ValueError):
+        return False
+    return (d.get("kernel_hash") == kernel_hash() and d.get("settings") == settings.as_dict()
+            and d.get("episode_steps") == episode_steps)
+
+
+def missing(tier: str, episodes: int | None = None, settings: PlannerSettings = PlannerSettings(),
+            episode_steps: int = EPISODE_STEPS, data_dir: Path = DATA_DIR) -> list[int]:
+    """The test seeds still to plan: absent, or made by another kernel or with other settings."""
+    return [s for s in _seeds(tier, episodes) if not _fresh(episode_path(tier, s, data_dir), settings, episode_steps)]
+
+
+def load_plans(tier: str, episodes: int | None = None, settings: PlannerSettings = PlannerSettings(),
+               episode_steps: int = EPISODE_STEPS, data_dir: Path = DATA_DIR) -> list[PlanResult]:
+    """Every test episode's plan, in seed order; ValueError naming the command if any is missing."""
+    gone = missing(tier, episodes, settings, episode_steps, data_dir)
+    if gone:
+        raise ValueError(f"planner, tier {tier}: {len(gone)} test episode(s) not planned on this kernel "
+                         f"(first seed {gone[0]}); run `python -m agents.references.planner_runs --tier {tier} --until HH:MM`")
+    return [PlanResult.from_json(json.loads(episode_path(tier, s, data_dir).read_text())) for s in _seeds(tier, episodes)]
+
+
+def run(tier: str, seeds: list[int], settings: PlannerSettings = PlannerSettings(), episode_steps: int = EPISODE_STEPS,
+        data_dir: Path = DATA_DIR, deadline: datetime | None = None) -> list[Path]:
+    """Plan ``seeds`` one by one, writing each file as it finishes; with ``deadline``, stop before
+    an episode that would not finish by then (estimated from those done in this run)."""
+    written = []
+    spent: list[float] = []
+    for seed in seeds:
+        if deadline is not None:
+            estimate = max(spent) if spent else NOMINAL_EPISODE_S
+            if datetime.now() + timedelta(seconds=estimate) > deadline:
+                print(f"stopping: the next episode (~{estimate / 60:.1f} min) would not finish by {deadline:%H:%M}")
+                break
+        t0 = time.perf_counter()
+        res = plan_episode(tier, seed, episode_steps, settings)
+        spent.append(time.perf_counter() - t0)
+        path = episode_path(tier, seed, data_dir)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        path.write_text(json.dumps({"tier": tier, "kernel_hash": kernel_hash(), "episode_steps": episode_steps,
+                                    **res.to_json()}) + "\n")
+        written.append(path)
+        print(f"{path}: return {res.return_:.2f} (hindsight {res.hindsight_preload_n:.0f} N: "
+              f"{res.hindsight_return:.2f}; +{res.return_ - res.hindsight_return:.2f}), {res.accepted} of "
+              f"{res.decisions} decisions changed the plan, {res.env_steps:,} env steps, {res.wall_s:.0f} s", flush=True)
+    return written
+
+
+def main(argv: list[str] | None = None) -> None:
+    ap = argparse.ArgumentParser(prog="python -m agents.references.planner_runs",
+                                 description="The planner on a tier's test episodes, one file per episode.")
+    ap.add_argument("--tier", choices=TIER_NAMES, default=DEFAULT_TIER)
+    ap.add_argument("--episodes", type=int, help="first N test episodes (default: the protocol's)")
+    g = ap.add_mutually_exclusive_group(required=True)
+    g.add_argument("--status", action="store_true", help="how many episodes are planned")
+    g.add_argument("--next", type=int, metavar="K", help="plan the next K missing episodes")
+    g.add_argument("--until", metavar="HH:MM", help="plan episodes while one can finish before this time")
+    ap.add_argument("--data-dir", default=str(DATA_DIR))
+    a = ap.parse_args(argv)
+    data_dir = Path(a.data_dir)
+    todo = missing(a.tier, a.episodes, data_dir=data_dir)
+    total = len(_seeds(a.tier, a.episodes))
+    if a.status:
+        print(f"planner, tier {a.tier}: {total - len(todo)} of {total} test episodes planned on this kernel"
+              + (f"; next seed {todo[0]}" if todo else ""))
+        return
+    deadline = None
+    if a.until:
+        hh, mm = (int(x) for x in a.until.split(":"))
+        deadline = datetime.now().replace(hour=hh, minute=mm, second=0, microsecond=0)
+        if deadline < datetime.now():
+            deadline += timedelta(days=1)
+    run(a.tier, todo if a.next is None else todo[:a.next], data_dir=data_dir, deadline=deadline)
+
+
+if __name__ == "__main__":
+    main()
