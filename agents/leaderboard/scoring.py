@@ -28,9 +28,10 @@ episode *and* the episodes, so the interval covers both the training-seed spread
 sampling of scenarios. For a single-run row (a deterministic reference, or one shipped policy)
 this is a bootstrap over episodes. ``seed_interval`` is rliable's default (seeds redrawn within
 each episode, the episodes held fixed), reported as well for rows with several seeds.
-The probability of improvement over the validation constant is rliable's
-(P(X_m > Y_m) averaged over episodes, ties counting one half); its interval redraws the seeds
-and is undefined (None) for a single-run row.
+The probability of improvement (over the validation constant, the contextual constant, ...) is
+rliable's (P(X_m > Y_m) averaged over episodes, ties counting one half); its interval redraws
+the episodes (paired) and the seeds within them (:func:`probability_of_improvement`), so it is
+defined for a single-run row too.
 
 rliable's bootstrap draws its indices from NumPy's global generator; every function here seeds
 it (and restores its state afterwards), so the intervals are reproducible.
@@ -142,18 +143,32 @@ def seed_interval(scores: np.ndarray, reps: int = BOOTSTRAP_REPS, seed: int = BO
 
 
 def probability_of_improvement(x: np.ndarray, y: np.ndarray, reps: int = POI_REPS,
-                               seed: int = BOOTSTRAP_SEED) -> tuple[float, float | None, float | None]:
-    """(P(X > Y), 95 % low, high) with rliable, X and Y (runs, episodes) on the same episodes;
-    the interval is None when both have a single run (nothing to redraw)."""
-    library, metrics = _rliable()
+                               seed: int = BOOTSTRAP_SEED) -> tuple[float, float, float]:
+    """(P(X > Y), 95 % low, high): rliable's probability of improvement of X over Y (runs,
+    episodes) on the same episodes, with a percentile interval from a stratified bootstrap that
+    redraws the **episodes** (the same draw for X and Y: they stay paired) and, within each drawn
+    episode, each one's runs independently. rliable's own interval for this metric
+    (``StratifiedIndependentBootstrap``) redraws runs only, so it is blind to which scenarios the
+    test set happens to hold and undefined for single runs; this one covers both."""
+    _, metrics = _rliable()
     x, y = _as_runs_by_tasks(x), _as_runs_by_tasks(y)
     if x.shape[1] != y.shape[1]:
         raise ValueError(f"x and y must share their episodes: {x.shape} vs {y.shape}")
     p = float(metrics.probability_of_improvement(x, y))
-    if x.shape[0] == 1 and y.shape[0] == 1:
-        return p, None, None
-    with _global_seed(seed):
-        _, ci = library.get_interval_estimates({"p": [x, y]},
-                                               lambda a, b: np.array([metrics.probability_of_improvement(a, b)]),
-                                               reps=reps)
-    return p, float(ci["p"][0][0]), float(ci["p"][1][0])
+    rng = np.random.default_rng(seed)
+    (nx, m), ny = x.shape, y.shape[0]
+    episodes = rng.integers(0, m, (reps, 1, m))
+    xs = x[rng.integers(0, nx, (reps, nx, m)), episodes]            # (reps, runs, episodes)
+    ys = y[rng.integers(0, ny, (reps, ny, m)), episodes]
+    draws = _improvement(xs, ys)
+    low, high = np.percentile(draws, [2.5, 97.5])
+    return p, float(low), float(high)
+
+
+def _improvement(xs: np.ndarray, ys: np.ndarray) -> np.ndarray:
+    """rliable's probability of improvement (per episode the Mann-Whitney U of X over Y divided
+    by runs_x * runs_y - wins plus half the ties - then the mean over episodes) of each leading
+    replicate of (reps, runs, episodes) arrays, vectorised over the replicates."""
+    diff = xs[:, :, None, :] - ys[:, None, :, :]                   # (reps, nx, ny, m)
+    per_episode = ((diff > 0).sum(axis=(1, 2)) + 0.5 * (diff == 0).sum(axis=(1, 2))) / (xs.shape[1] * ys.shape[1])
+    return per_episode.mean(axis=1)

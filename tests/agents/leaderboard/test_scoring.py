@@ -93,8 +93,31 @@ def test_probability_of_improvement_counts_wins_per_episode_with_half_ties():
     p, lo, hi = scoring.probability_of_improvement(x, y, reps=50)
     assert p == pytest.approx(0.6875, abs=1e-12)
     assert lo is not None and lo <= p <= hi
-    p1, lo1, hi1 = scoring.probability_of_improvement(x[:1], y)
-    assert p1 == pytest.approx((1 + 0 + 0.5 + 1) / 4, abs=1e-12) and lo1 is None and hi1 is None
+    p1, lo1, hi1 = scoring.probability_of_improvement(x[:1], y, reps=200)
+    assert p1 == pytest.approx((1 + 0 + 0.5 + 1) / 4, abs=1e-12)
+    assert 0.0 <= lo1 < p1 < hi1 <= 1.0          # one run each: the episodes alone are redrawn
+
+
+def test_the_improvement_interval_redraws_episodes_and_keeps_them_paired():
+    """Two runs that win on exactly half the episodes: P = 0.5 whatever the runs, so a run-only
+    bootstrap gives a zero-width interval; redrawing episodes gives the binomial spread of a mean of
+    m coin flips (sd 0.5 / sqrt(m)): a 95 % interval about 4 sd wide. Paired draws keep P(x > x)
+    at exactly one half in every replicate."""
+    m = 100
+    x = np.tile(np.r_[np.ones(m // 2), -np.ones(m // 2)], (3, 1))
+    y = np.zeros((2, m))
+    p, lo, hi = scoring.probability_of_improvement(x, y, reps=2000)
+    assert p == 0.5
+    assert (hi - lo) == pytest.approx(4 * 0.5 / np.sqrt(m), rel=0.15)
+    assert scoring.probability_of_improvement(x[:1], x[:1], reps=200) == (0.5, 0.5, 0.5)
+
+
+def test_the_vectorised_improvement_is_rliables():
+    from rliable import metrics
+    rng = np.random.default_rng(5)
+    x = np.round(rng.normal(size=(4, 30)), 1)           # rounded: ties too
+    y = np.round(rng.normal(size=(2, 30)), 1)
+    assert scoring._improvement(x[None], y[None])[0] == pytest.approx(metrics.probability_of_improvement(x, y), abs=1e-12)
 
 
 def test_poi_over_another_row_is_one_half_against_itself_and_one_against_a_worse_row():
