@@ -10,7 +10,10 @@ An actuator model is any object with ``min_preload_n``, ``max_preload_n``,
 a nonlinear valve characteristic), ``action_for(preload_n)`` (its inverse, for scripted
 policies) and ``as_array() -> [time_constant_s, slew_rate_n_per_s]``: the lag and the rate
 limit the kernel applies (the dynamics run inside the numba kernel, so their form is this
-first-order lag with a rate limit; the numbers are the actuator's).
+first-order lag with a rate limit; the numbers are the actuator's: time constant >= 0, slew rate
+> 0). ``update_interval_s`` must be a whole multiple of the integrator step (25 us in the env)
+and the env's control interval a whole multiple of ``update_interval_s``; the env refuses other
+values with the nearest valid ones rather than round them.
 """
 
 from __future__ import annotations

@@ -84,6 +84,30 @@ def rotor_damping(base: BearingParams) -> np.ndarray:
     return Simulator(base).damping_coefficients.copy()
 
 
+def _whole_multiple(name: str, value: float, unit_name: str, unit: float) -> int:
+    """``value / unit`` as a whole number >= 1, or a ValueError naming both and the nearest valid
+    values: the step kernel runs whole integrator steps per actuator update and whole updates per
+    control interval, so anything else would be rounded silently."""
+    k = value / unit
+    n = int(round(k))
+    if n < 1 or abs(k - n) > 1e-9 * max(1.0, k):
+        near = ", ".join(f"{m * unit:.6g}" for m in sorted({max(1, int(k)), max(1, int(k)) + 1}))
+        raise ValueError(f"{name} = {value:.6g} s must be a whole multiple of {unit_name} = {unit:.6g} s "
+                         f"(the step kernel runs whole steps); nearest valid values: {near} s")
+    return n
+
+
+def _actuator_dynamics(actuator) -> np.ndarray:
+    """The actuator's ``as_array()`` as the kernel runs it: [time constant (s) >= 0, slew rate
+    (N/s) > 0] of the first-order lag with a rate limit (:func:`.actuator.actuator_update`), or a
+    ValueError saying what the kernel can run."""
+    arr = np.asarray(actuator.as_array(), dtype=np.float64)
+    if arr.shape != (2,) or not np.all(np.isfinite(arr)) or arr[0] < 0.0 or arr[1] <= 0.0:
+        raise ValueError(f"actuator.as_array() must be [time_constant_s >= 0, slew_rate_n_per_s > 0] (the step "
+                         f"kernel runs a first-order lag with a rate limit), got {arr.tolist()}")
+    return arr
+
+
 class PreloadBatch:
     def __init__(self, num_envs: int, base_params: BearingParams | None, control_dt_s: float,
                  actuator: PreloadActuator):
@@ -91,10 +115,12 @@ class PreloadBatch:
         self.actuator = actuator
         self.n = num_envs
         dt = self.base.integrator.dt_s
-        self.steps_per_sub = max(1, int(round(actuator.update_interval_s / dt)))
+        self.steps_per_sub = _whole_multiple("the actuator's update_interval_s", actuator.update_interval_s,
+                                             "the integrator step dt_s", dt)
         sub = self.steps_per_sub * dt
-        self.n_sub = max(1, int(round(control_dt_s / sub)))
+        self.n_sub = _whole_multiple("control_dt_s", control_dt_s, "the actuator's update_interval_s", sub)
         self.control_dt_s = self.n_sub * sub
+        self.act = _actuator_dynamics(actuator)
         nb = self.base.geometry.n_balls
         B = num_envs
         self.prm = np.zeros((B, N_PRM))
@@ -114,7 +140,6 @@ class PreloadBatch:
         self.ball_out = np.zeros((B, nb, N_BALL_OUT))
         self.env_state = np.zeros((B, N_ENV_STATE))      # columns E_PRELOAD, E_SETPOINT, E_T
         self.sched = np.zeros((B, SCHEDULE_SIZE))
-        self.act = actuator.as_array()
         self.rec = np.zeros((B, self.n_sub * self.steps_per_sub + 1, N_REC))
         self.rows = np.zeros(B, dtype=np.int64)
         self.status = np.zeros(B, dtype=np.int64)

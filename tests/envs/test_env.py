@@ -198,3 +198,29 @@ def test_render_human_updates_a_window_and_stops_when_it_is_closed(monkeypatch):
     env.step(np.array([0.0], dtype=np.float32))           # no error, no new window
     assert env.human_render_target is None and env._window.state == "closed"
     env.close()
+
+
+def test_timings_the_step_kernel_cannot_run_are_refused_not_rounded():
+    """The kernel runs whole integrator steps per actuator update and whole updates per control
+    interval: anything else is an error naming the parameter and the nearest valid values."""
+    from bearing_gym.envs.actuator import PreloadActuator
+    with pytest.raises(ValueError, match=r"control_dt_s = 0.0205 s must be a whole multiple of the actuator's "
+                                         r"update_interval_s = 0.001 s.*0.02, 0.021"):
+        BearingPreloadEnv(scenario="paper", control_dt_s=0.0205)
+    with pytest.raises(ValueError, match=r"update_interval_s = 0.00101 s must be a whole multiple of the integrator step"):
+        BearingPreloadEnv(scenario="paper", actuator=PreloadActuator(update_interval_s=1.01e-3))
+    env = BearingPreloadEnv(scenario="paper", control_dt_s=0.015, actuator=PreloadActuator(update_interval_s=5e-4))
+    assert env.control_dt_s == pytest.approx(0.015, rel=1e-12)
+
+
+def test_an_actuator_whose_dynamics_the_kernel_cannot_run_is_refused():
+    import dataclasses
+
+    from bearing_gym.envs.actuator import PreloadActuator
+
+    @dataclasses.dataclass(frozen=True)
+    class ThreeParameterActuator(PreloadActuator):
+        def as_array(self):
+            return np.array([0.02, 2e4, 1.0])
+    with pytest.raises(ValueError, match=r"as_array\(\) must be \[time_constant_s >= 0, slew_rate_n_per_s > 0\]"):
+        BearingPreloadEnv(scenario="paper", actuator=ThreeParameterActuator())
