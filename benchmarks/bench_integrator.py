@@ -71,11 +71,11 @@ machine_info = bench_cli.machine_info
 
 
 @njit(cache=False)
-def _force_loop(n, U, prm, race_wav, ball_wav, ball_phase, ball_size, psi_b, ball_v, ball_out, F):
+def _force_loop(n, U, prm, omega, race_wav, ball_wav, ball_phase, ball_size, psi_b, ball_v, ball_out, F):
     """n bearing-force evaluations at the same U (warm ball states), inside numba."""
     worst = 0
     for _ in range(n):
-        st = bearing_force(U, 0.0, 0.0, psi_b, prm, race_wav, ball_wav, ball_phase, ball_size,
+        st = bearing_force(U, 0.0, 0.0, psi_b, prm, omega, race_wav, ball_wav, ball_phase, ball_size,
                            ball_v, ball_out, F)
         if st > worst:
             worst = st
@@ -99,7 +99,7 @@ def bench_force(cfg: dict) -> dict:
     p = sim._packed
     U = s.X.copy()
     F = np.zeros(5)
-    args = (p.prm, p.race_wav, p.ball_wav, p.ball_phase, p.ball_size, s.psi_b, s.ball_v,
+    args = (p.prm, p.op[0], p.race_wav, p.ball_wav, p.ball_phase, p.ball_size, s.psi_b, s.ball_v,
             s.ball_out, F)
     assert _force_loop(10, U, *args) == 0                  # compile
     F_numba = F.copy()
@@ -110,7 +110,7 @@ def bench_force(cfg: dict) -> dict:
 
     def python_calls():
         for _ in range(n_py):
-            bearing_force(U, 0.0, 0.0, s.psi_b, p.prm, p.race_wav, p.ball_wav, p.ball_phase,
+            bearing_force(U, 0.0, 0.0, s.psi_b, p.prm, p.op[0], p.race_wav, p.ball_wav, p.ball_phase,
                           p.ball_size, s.ball_v, s.ball_out, F)
     py_min, _ = _best_of(reps, python_calls)
 

@@ -43,7 +43,7 @@ def _setup(default_sim, race_control, **overrides):
 
 def _numba_force(packed, state, U, cage_angle=0.0, shaft_angle=0.0):
     ball_v, ball_out, F = state.ball_v.copy(), state.ball_out.copy(), np.zeros(5)
-    status = bearing_force(U, cage_angle, shaft_angle, state.psi_b, packed.prm, packed.race_wav,
+    status = bearing_force(U, cage_angle, shaft_angle, state.psi_b, packed.prm, packed.op[0], packed.race_wav,
                            packed.ball_wav, packed.ball_phase, packed.ball_size, ball_v, ball_out, F)
     return F, status, ball_v, ball_out
 
@@ -105,7 +105,7 @@ def test_newmark_steps_match_numba(default_sim, race_control):
     # numba
     s = state.copy()
     rec = np.zeros((n_steps, N_REC))
-    status, done, rows = integrate(packed.prm, packed.race_wav, packed.ball_wav, packed.ball_phase,
+    status, done, rows = integrate(packed.prm, packed.op, packed.race_wav, packed.ball_wav, packed.ball_phase,
                                    packed.ball_size, s.X, s.V, s.A, s.scal, s.psi_b, s.ball_v,
                                    s.ball_out, n_steps, 1, rec)
     assert (status, done, rows) == (0, n_steps, n_steps)

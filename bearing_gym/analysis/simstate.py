@@ -19,7 +19,7 @@ import numpy as np
 
 from bearing_gym.physics import Simulator, SimulatorState
 from bearing_gym.physics.bearing import bearing_force
-from bearing_gym.physics.layout import (I_NGAMMA, I_OMEGA, I_PX, I_PY, I_PZ, I_RP, PackedParams,
+from bearing_gym.physics.layout import (I_NGAMMA, I_RP, N_OP, O_OMEGA, O_PX, O_PY, O_PZ, PackedParams,
                                         pack_params)
 from bearing_gym.physics.portable_math import sincos
 from bearing_gym.physics.rotor import S_CAGE, S_SHAFT, solve_acceleration
@@ -73,13 +73,14 @@ class StatePerturber:
         self.sim = sim
         packed = pack_params(sim.params, sim.damping_coefficients)
         prm = packed.prm.copy()
-        prm[I_PZ] = sim.axial_preload_n
-        prm[I_PX] = sim.radial_load_x_n
-        prm[I_PY] = sim.radial_load_y_n
-        prm[I_OMEGA] = rpm_to_rad_s(sim.shaft_speed_rpm)
         prm[I_NGAMMA] = 0.0        # solve_acceleration then gives M a = F + P - (C + G) v
+        op = np.zeros(N_OP)        # the simulator's operating point now
+        op[O_PZ] = sim.axial_preload_n
+        op[O_PX] = sim.radial_load_x_n
+        op[O_PY] = sim.radial_load_y_n
+        op[O_OMEGA] = rpm_to_rad_s(sim.shaft_speed_rpm)
         self._packed = PackedParams(prm, packed.race_wav, packed.ball_wav, packed.ball_phase,
-                                    packed.ball_size)
+                                    packed.ball_size, op)
         self._F = np.zeros(5)
 
     def make(self, base: SimulatorState, vector: np.ndarray) -> SimulatorState:
@@ -91,12 +92,12 @@ class StatePerturber:
         st.X[:] = vector[:5]
         st.V[:] = vector[5:]
         p = self._packed
-        status = bearing_force(st.X, st.scal[S_CAGE], st.scal[S_SHAFT], st.psi_b, p.prm,
+        status = bearing_force(st.X, st.scal[S_CAGE], st.scal[S_SHAFT], st.psi_b, p.prm, p.op[O_OMEGA],
                                p.race_wav, p.ball_wav, p.ball_phase, p.ball_size, st.ball_v,
                                st.ball_out, self._F)
         if status != 0:
             raise RuntimeError(f"ball equilibrium failed (status {status}) at the perturbed "
                                "state; use a smaller perturbation")
         sin_shaft, cos_shaft = sincos(st.scal[S_SHAFT])
-        solve_acceleration(self._F, p.prm, cos_shaft, sin_shaft, st.V, st.A)
+        solve_acceleration(self._F, p.prm, p.op, cos_shaft, sin_shaft, st.V, st.A)
         return st

@@ -23,12 +23,12 @@ from .features import F_QPI, N_FEATURES
 from bearing_gym.params import BearingParams, RaceWaviness, Waviness, default_params
 from bearing_gym.physics import Simulator
 from bearing_gym.physics.ball import N_BALL_OUT
-from bearing_gym.physics.layout import I_CTY, I_CX, N_PRM
+from bearing_gym.physics.layout import I_CTY, I_CX, N_OP, N_PRM, O_OMEGA, O_PX, O_PY, O_PZ
 from bearing_gym.physics.portable_math import cos, pow, sincos
 from bearing_gym.physics.rotor import N_REC, N_SCAL
 
 from .actuator import PreloadActuator
-from .kernel import E_PRELOAD, E_SETPOINT, E_T, N_ENV_STATE, step_batch, step_batch_serial
+from .kernel import E_SETPOINT, E_T, N_ENV_STATE, BatchArrays, step_batch, step_batch_serial
 from .scenario import SCHEDULE_SIZE, Scenario
 
 MAX_RACE_TERMS = 4
@@ -124,6 +124,7 @@ class PreloadBatch:
         nb = self.base.geometry.n_balls
         B = num_envs
         self.prm = np.zeros((B, N_PRM))
+        self.op = np.zeros((B, N_OP))                       # the operating point; op[:, O_PZ] is the preload
         self.race_wav = np.zeros((B, MAX_RACE_TERMS, 5))
         self.n_race = np.zeros(B, dtype=np.int64)
         n_bw = len([a for a in self.base.waviness.balls.amplitudes_m if a != 0.0])
@@ -138,7 +139,7 @@ class PreloadBatch:
         self.psi_b = np.zeros((B, nb))
         self.ball_v = np.zeros((B, nb, 2))
         self.ball_out = np.zeros((B, nb, N_BALL_OUT))
-        self.env_state = np.zeros((B, N_ENV_STATE))      # columns E_PRELOAD, E_SETPOINT, E_T
+        self.env_state = np.zeros((B, N_ENV_STATE))      # columns E_SETPOINT, E_T
         self.sched = np.zeros((B, SCHEDULE_SIZE))
         self.rec = np.zeros((B, self.n_sub * self.steps_per_sub + 1, N_REC))
         self.rows = np.zeros(B, dtype=np.int64)
@@ -149,6 +150,11 @@ class PreloadBatch:
         self.start_failed = np.zeros(B, dtype=bool)
         g = self.base.geometry
         self.gamma_cos_a0 = g.diameter_ratio * cos(g.contact_angle_rad)
+        # the kernel's arguments, by name (views of the arrays above: the same memory)
+        self.arrays = BatchArrays(self.prm, self.op, self.race_wav, self.n_race, self.ball_wav, self.n_ball,
+                                  self.ball_phase, self.ball_size, self.X, self.V, self.A, self.scal, self.psi_b,
+                                  self.ball_v, self.ball_out, self.env_state, self.sched, self.rec, self.rows,
+                                  self.status, self.feats)
 
     @property
     def dt_s(self) -> float:
@@ -160,6 +166,7 @@ class PreloadBatch:
         sim = Simulator(params)
         p = sim.packed_params
         self.prm[b] = p.prm
+        self.op[b] = p.op
         nr = p.race_wav.shape[0]
         if nr > MAX_RACE_TERMS:
             raise ValueError(f"at most {MAX_RACE_TERMS} race-waviness terms are supported in the env, got {nr}")
@@ -174,7 +181,7 @@ class PreloadBatch:
         s = sim.state
         self.X[b], self.V[b], self.A[b] = s.X, s.V, s.A
         self.scal[b], self.psi_b[b], self.ball_v[b], self.ball_out[b] = s.scal, s.psi_b, s.ball_v, s.ball_out
-        self.env_state[b] = (scenario.initial_preload_n, scenario.initial_preload_n, 0.0)
+        self.env_state[b] = (scenario.initial_preload_n, 0.0)     # set-point = the preload op[b, O_PZ]
         self.sched[b] = scenario.schedule_array()
         self.scenarios[b] = scenario
         self.prm[b, I_CX:I_CTY + 1] = self.rotor_damping
@@ -243,7 +250,7 @@ class PreloadBatch:
         for b in idx:
             self.start_failed[b] = self.status[b] != 0
             self.env_state[b, E_T] = 0.0
-            self.env_state[b, E_PRELOAD] = self.env_state[b, E_SETPOINT] = self.scenarios[b].initial_preload_n
+            self.op[b, O_PZ] = self.env_state[b, E_SETPOINT] = self.scenarios[b].initial_preload_n
 
     def _run_settle(self, todo: np.ndarray) -> None:
         real_sched = self.sched[todo].copy()
@@ -283,7 +290,7 @@ class PreloadBatch:
         self.sched[todo] = real_sched
 
     #: every per-env array of the batch (first axis = env): what :meth:`copy_env` copies
-    _PER_ENV = ("prm", "race_wav", "n_race", "ball_wav", "n_ball", "ball_phase", "ball_size", "X", "V", "A",
+    _PER_ENV = ("prm", "op", "race_wav", "n_race", "ball_wav", "n_ball", "ball_phase", "ball_size", "X", "V", "A",
                 "scal", "psi_b", "ball_v", "ball_out", "env_state", "sched", "rec", "rows", "status", "feats",
                 "start_failed")
 
@@ -306,15 +313,12 @@ class PreloadBatch:
     def _kernel(self, setpoints: np.ndarray, active: np.ndarray, n_sub: int) -> None:
         self.env_state[active, E_SETPOINT] = setpoints[active]
         kernel = step_batch if self.n > 1 else step_batch_serial
-        kernel(active, self.prm, self.race_wav, self.n_race, self.ball_wav, self.n_ball,
-               self.ball_phase, self.ball_size, self.X, self.V, self.A, self.scal, self.psi_b,
-               self.ball_v, self.ball_out, self.env_state, self.sched, self.act, n_sub,
-               self.steps_per_sub, self.rec, self.rows, self.status, self.feats)
+        kernel(active, self.arrays, self.act, n_sub, self.steps_per_sub)
 
     @property
     def preload(self) -> np.ndarray:
         """Actual preload (N) of each env (a view)."""
-        return self.env_state[:, E_PRELOAD]
+        return self.op[:, O_PZ]
 
     @property
     def setpoint(self) -> np.ndarray:
@@ -325,12 +329,10 @@ class PreloadBatch:
         return self.env_state[:, E_T]
 
     def omega(self) -> np.ndarray:
-        from bearing_gym.physics.layout import I_OMEGA
-        return self.prm[:, I_OMEGA].copy()
+        return self.op[:, O_OMEGA].copy()
 
     def radial_load_n(self) -> np.ndarray:
-        from bearing_gym.physics.layout import I_PX, I_PY
-        fx, fy = self.prm[:, I_PX], self.prm[:, I_PY]
+        fx, fy = self.op[:, O_PX], self.op[:, O_PY]
         return np.sqrt(fx * fx + fy * fy)          # not np.hypot: libm's, by CPU
 
     def window(self, b: int) -> np.ndarray:

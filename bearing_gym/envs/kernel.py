@@ -12,20 +12,55 @@ Schedule row (``Scenario.schedule_array``): the number of speed knots, then (t, 
 
 from __future__ import annotations
 
+from typing import NamedTuple
+
+import numpy as np
 from numba import njit, prange
 
-from .features import window_features
-from bearing_gym.physics.layout import I_DT, I_OMEGA, I_PX, I_PY, I_PZ
+from bearing_gym.physics.layout import I_DT, O_OMEGA, O_PX, O_PY, O_PZ
 from bearing_gym.physics.rotor import integrate
+
+from .features import window_features
 
 from .actuator import actuator_update
 from .scenario import MAX_EVENTS
 
-# columns of an env's state row (PreloadBatch.env_state)
-E_PRELOAD = 0       # actual preload (N)
-E_SETPOINT = 1      # set-point (N)
-E_T = 2             # time in the episode (s)
-N_ENV_STATE = 3
+# columns of an env's state row (PreloadBatch.env_state); the actual preload is the operating
+# point's (op[O_PZ]), its one home
+E_SETPOINT = 0      # set-point (N)
+E_T = 1             # time in the episode (s)
+N_ENV_STATE = 2
+
+
+class BatchArrays(NamedTuple):
+    """What the batch kernel works on, per env ``b`` (first axis): the spindle's constants
+    ``prm`` (``I_*``), its operating point ``op`` (``O_*``: speed, radial loads, preload - the
+    kernel sets it every actuator update), the waviness and ball sizes (``n_race``/``n_ball``
+    rows of each in use), the integrator state (X, V, A, scal, psi_b, ball_v, ball_out), the
+    env state (``E_*``), the scenario's schedule, and the outputs of the last interval (record
+    rows, their count, the status, the window features)."""
+
+    prm: np.ndarray
+    op: np.ndarray
+    race_wav: np.ndarray
+    n_race: np.ndarray
+    ball_wav: np.ndarray
+    n_ball: np.ndarray
+    ball_phase: np.ndarray
+    ball_size: np.ndarray
+    X: np.ndarray
+    V: np.ndarray
+    A: np.ndarray
+    scal: np.ndarray
+    psi_b: np.ndarray
+    ball_v: np.ndarray
+    ball_out: np.ndarray
+    env_state: np.ndarray
+    sched: np.ndarray
+    rec: np.ndarray
+    rows: np.ndarray
+    status: np.ndarray
+    feats: np.ndarray
 
 
 @njit(cache=True, inline="always")
@@ -51,21 +86,21 @@ def operating_point(row, t):
 
 
 @njit(cache=True)
-def step_one(prm, race_wav, ball_wav, ball_phase, ball_size, X, V, A, scal, psi_b, ball_v,
+def step_one(prm, op, race_wav, ball_wav, ball_phase, ball_size, X, V, A, scal, psi_b, ball_v,
              ball_out, state, sched, act, n_sub, steps_per_sub, rec, feats):
     """Advance one environment by ``n_sub`` actuator intervals of ``steps_per_sub`` Newmark
-    steps. ``state`` = [preload, setpoint, t_episode] (updated). Returns (status, rows)."""
+    steps: each sets the operating point ``op`` from the schedule and moves its preload by the
+    actuator. ``state`` = [setpoint, t_episode] (updated). Returns (status, rows)."""
     rows_total = 0
     st = 0
     h = steps_per_sub * prm[I_DT]
     for _ in range(n_sub):
         omega, fx, fy = operating_point(sched, state[E_T])
-        prm[I_OMEGA] = omega
-        prm[I_PX] = fx
-        prm[I_PY] = fy
-        state[E_PRELOAD] = actuator_update(state[E_PRELOAD], state[E_SETPOINT], h, act[0], act[1])
-        prm[I_PZ] = state[E_PRELOAD]
-        st, done, rows = integrate(prm, race_wav, ball_wav, ball_phase, ball_size, X, V, A, scal,
+        op[O_OMEGA] = omega
+        op[O_PX] = fx
+        op[O_PY] = fy
+        op[O_PZ] = actuator_update(op[O_PZ], state[E_SETPOINT], h, act[0], act[1])
+        st, done, rows = integrate(prm, op, race_wav, ball_wav, ball_phase, ball_size, X, V, A, scal,
                                    psi_b, ball_v, ball_out, steps_per_sub, 1, rec[rows_total:])
         rows_total += rows
         state[E_T] += done * prm[I_DT]
@@ -78,24 +113,24 @@ def step_one(prm, race_wav, ball_wav, ball_phase, ball_size, X, V, A, scal, psi_
 def _compile_step_batch(name: str, parallel: bool):
     """The batch kernel compiled once per threading mode from one body (its own name each, so
     the two never share a cache entry)."""
-    def kernel(active, prm, race_wav, n_race, ball_wav, n_ball, ball_phase, ball_size, X, V, A,
-               scal, psi_b, ball_v, ball_out, env_state, schedule, act, n_sub, steps_per_sub, rec,
-               rows_out, status_out, feats):
-        n_env = X.shape[0]
+    def kernel(active, a, act, n_sub, steps_per_sub):
+        n_env = a.X.shape[0]
+        status_out = a.status        # bound outside the prange: numba's parfor drops a setitem
+        rows_out = a.rows            # on a tuple's attribute inside it (measured: rows stayed 0)
         for b in prange(n_env):
             if active[b]:
-                st, rows = step_one(prm[b], race_wav[b, :n_race[b]], ball_wav[b, :n_ball[b]],
-                                    ball_phase[b, :, :n_ball[b]], ball_size[b], X[b], V[b], A[b],
-                                    scal[b], psi_b[b], ball_v[b], ball_out[b], env_state[b],
-                                    schedule[b], act, n_sub, steps_per_sub, rec[b], feats[b])
+                st, rows = step_one(a.prm[b], a.op[b], a.race_wav[b, :a.n_race[b]], a.ball_wav[b, :a.n_ball[b]],
+                                    a.ball_phase[b, :, :a.n_ball[b]], a.ball_size[b], a.X[b], a.V[b], a.A[b],
+                                    a.scal[b], a.psi_b[b], a.ball_v[b], a.ball_out[b], a.env_state[b],
+                                    a.sched[b], act, n_sub, steps_per_sub, a.rec[b], a.feats[b])
                 status_out[b] = st
                 rows_out[b] = rows
     kernel.__name__ = kernel.__qualname__ = name
     return njit(cache=True, parallel=parallel)(kernel)
 
 
-#: Advance each env ``b`` with ``active[b]`` by one control interval (prange over envs);
-#: ``env_state[b]`` = [preload, setpoint, t_episode]; writes rows_out, status_out (0 = ok), feats.
+#: Advance each env ``b`` with ``active[b]`` of the :class:`BatchArrays` by one control interval
+#: (prange over envs); writes their op, env_state, rec, rows, status (0 = ok) and feats.
 step_batch = _compile_step_batch("step_batch", parallel=True)
 #: The same without threads (prange is range without parallel=True): for a batch of one, where a
 #: thread pool only costs time when other processes share the cores.

@@ -9,7 +9,7 @@ from numba import njit
 
 from .ball import (B_CI, B_CO, B_CTRL, B_LAMI, B_MG, B_QI, B_QO, B_SI, B_SO, B_WM, BALL_OK,
                    prefers_outer_control, solve_ball)
-from .layout import (CONTROL_AUTO, CONTROL_INNER, I_CONTROL, I_DB, I_NB, I_OMEGA, I_PHI0, I_RI,
+from .layout import (CONTROL_AUTO, CONTROL_INNER, I_CONTROL, I_DB, I_NB, I_PHI0, I_RI,
                      I_RP, I_ZP)
 from .portable_math import PI, sincos
 from .waviness import ball_waviness, race_waviness
@@ -58,7 +58,7 @@ def ball_geometry(cage_angle, shaft_angle, psi_b, prm, race_wav, ball_wav, ball_
 
 
 @njit(cache=True)
-def bearing_force(U, cage_angle, shaft_angle, psi_b, prm, race_wav, ball_wav, ball_phase,
+def bearing_force(U, cage_angle, shaft_angle, psi_b, prm, omega, race_wav, ball_wav, ball_phase,
                   ball_size, ball_v, ball_out, F):
     """Total bearing force on the rotor at the given angles (eqs 3-33), written into F: the
     ball geometry of :func:`ball_geometry`, then :func:`bearing_force_on`. Returns the worst
@@ -66,22 +66,21 @@ def bearing_force(U, cage_angle, shaft_angle, psi_b, prm, race_wav, ball_wav, ba
     once per step)."""
     geo = np.empty((int(prm[I_NB]), N_GEO))
     ball_geometry(cage_angle, shaft_angle, psi_b, prm, race_wav, ball_wav, ball_phase, geo)
-    return bearing_force_on(U, geo, prm, ball_size, ball_v, ball_out, F)
+    return bearing_force_on(U, geo, prm, omega, ball_size, ball_v, ball_out, F)
 
 
 @njit(cache=True)
-def bearing_force_on(U, geo, prm, ball_size, ball_v, ball_out, F):
+def bearing_force_on(U, geo, prm, omega, ball_size, ball_v, ball_out, F):
     """Total bearing force on the rotor, F = sum_j T_j^T Q_j (eqs 3-5, 32-33), written into F.
 
     ``U`` = (x, y, z, theta_x, theta_y); ``geo`` the step's ball geometry
-    (:func:`ball_geometry`); ``ball_v`` (N, 2) holds each ball's (v_r, v_z), used as the Newton
+    (:func:`ball_geometry`); ``omega`` the shaft speed (rad/s); ``ball_v`` (N, 2) holds each ball's (v_r, v_z), used as the Newton
     warm start and overwritten with the solution; ``ball_out`` receives the contact state
     (``ball.B_*`` columns). Returns the worst ball status (0 = all converged).
     """
     n = int(prm[I_NB])
     db = prm[I_DB]
     ri = prm[I_RI]
-    omega = prm[I_OMEGA]
     control = int(prm[I_CONTROL])
     half_db = 0.5 * db
     for k in range(5):

@@ -22,7 +22,7 @@ from .ball import (B_CI, B_CO, B_CTRL, B_DI, B_DO, B_MG, B_QI, B_QO, B_SI, B_SO,
                    N_BALL_OUT)
 from .bearing import bearing_force, cage_speed
 from .kinematics import race_control_kinematics
-from .layout import (CONTROL_INNER, I_CONTROL, I_GAM, I_IB, I_NT_TOL, I_OMEGA, I_RP,
+from .layout import (CONTROL_INNER, I_CONTROL, I_GAM, I_IB, I_NT_TOL, I_RP, O_OMEGA,
                      PackedParams, pack_params)
 from .portable_linalg import lstsq
 from .portable_math import pow, sin
@@ -66,9 +66,9 @@ class StaticEquilibrium:
 
 
 @njit(cache=True)
-def _force_at(U, prm, race_wav, ball_wav, ball_phase, ball_size, ball_v, ball_out, F, cage_angle,
+def _force_at(U, prm, omega, race_wav, ball_wav, ball_phase, ball_size, ball_v, ball_out, F, cage_angle,
               psi_b):
-    return bearing_force(U, cage_angle, 0.0, psi_b, prm, race_wav, ball_wav, ball_phase,
+    return bearing_force(U, cage_angle, 0.0, psi_b, prm, omega, race_wav, ball_wav, ball_phase,
                          ball_size, ball_v, ball_out, F)
 
 
@@ -87,7 +87,7 @@ class _ForceEvaluator:
         self.F = np.zeros(5)
 
     def __call__(self, U: np.ndarray) -> np.ndarray:
-        st = _force_at(np.ascontiguousarray(U, dtype=np.float64), self.p.prm, self.p.race_wav,
+        st = _force_at(np.ascontiguousarray(U, dtype=np.float64), self.p.prm, self.p.op[O_OMEGA], self.p.race_wav,
                        self.p.ball_wav, self.p.ball_phase, self.p.ball_size, self.ball_v,
                        self.ball_out, self.F, self.cage_angle, self.psi_b)
         if st != 0:
@@ -206,7 +206,7 @@ def static_equilibrium(params, *, max_iter: int = 200, tol_n: float = 1e-4) -> S
     n = bo.shape[0]
     alpha_i = np.arctan2(bo[:, B_SI], bo[:, B_CI])
     alpha_o = np.arctan2(bo[:, B_SO], bo[:, B_CO])
-    omega = prm[I_OMEGA]
+    omega = packed.op[O_OMEGA]
     if omega > 0:
         ratio = cage_speed(bo, n, math.nan) / omega
         if math.isnan(ratio):   # no ball on the inner race: kinematic mean over all balls

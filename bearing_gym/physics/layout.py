@@ -3,8 +3,11 @@
 The frozen dataclasses of :mod:`bearing_gym.params` are converted once, here
 (:func:`pack_params`), to:
 
-* ``prm``: one float64 vector of scalar constants, indexed by the ``I_*`` constants below
+* ``prm``: one float64 vector of the spindle's constants, indexed by the ``I_*`` constants below
   (numba treats module-level integers as compile-time constants);
+* ``op``: the operating point, what changes while the spindle runs - shaft speed, radial loads,
+  axial preload - indexed by the ``O_*`` constants (apart from ``prm``, so nothing that runs the
+  spindle writes into its constants);
 * ``race_wav``: (n_terms, 5) rows ``[race, kind, order, amplitude_m, phase_rad]`` with race 0 =
   inner, 1 = outer and kind 0 = radial (p), 1 = axial (q) (eqs 9-12);
 * ``ball_wav``: (n_terms, 2) rows ``[order, amplitude_m]`` and ``ball_phase`` (N, n_terms)
@@ -50,27 +53,30 @@ I_MASS = 21
 I_IR = 22
 I_IZ = 23
 I_ECC = 24
-# loads and speed (settable between advance calls)
-I_PX = 25
-I_PY = 26
-I_PZ = 27
-I_OMEGA = 28      # shaft speed omega (rad/s)
 # damping coefficients (x, y, z, theta_x, theta_y)
-I_CX = 29
-I_CY = 30
-I_CZ = 31
-I_CTX = 32
-I_CTY = 33
+I_CX = 25
+I_CY = 26
+I_CZ = 27
+I_CTX = 28
+I_CTY = 29
 # integrator
-I_DT = 34
-I_NBETA = 35
-I_NGAMMA = 36
-I_NM_TOL = 37
-I_NM_MAXIT = 38
-I_NT_TOL = 39
-I_NT_MAXIT = 40
-I_DIVLIM = 41
-N_PRM = 42
+I_DT = 30
+I_NBETA = 31
+I_NGAMMA = 32
+I_NM_TOL = 33
+I_NM_MAXIT = 34
+I_NT_TOL = 35
+I_NT_MAXIT = 36
+I_DIVLIM = 37
+N_PRM = 38
+
+# the operating point ``op`` (settable between advance calls; the env's kernel sets it every
+# actuator update)
+O_OMEGA = 0       # shaft speed omega (rad/s)
+O_PX = 1          # radial load P_x (N)
+O_PY = 2          # radial load P_y (N)
+O_PZ = 3          # axial preload P (N), eq 35
+N_OP = 4
 
 CONTROL_OUTER = 0
 CONTROL_INNER = 1
@@ -84,6 +90,7 @@ class PackedParams(NamedTuple):
     ball_wav: np.ndarray
     ball_phase: np.ndarray
     ball_size: np.ndarray
+    op: np.ndarray
 
 
 def pack_params(p: "BearingParams", damping_coefficients: np.ndarray | None = None) -> PackedParams:
@@ -129,10 +136,6 @@ def pack_params(p: "BearingParams", damping_coefficients: np.ndarray | None = No
     prm[I_IR] = rot.inertia_radial_kg_m2
     prm[I_IZ] = rot.inertia_polar_kg_m2
     prm[I_ECC] = rot.eccentricity_m
-    prm[I_PX] = ld.radial_load_x_n
-    prm[I_PY] = ld.radial_load_y_n
-    prm[I_PZ] = ld.axial_preload_n
-    prm[I_OMEGA] = p.shaft_speed_rad_s
     if damping_coefficients is None and p.damping.coefficients is not None:
         damping_coefficients = np.asarray(p.damping.coefficients, dtype=np.float64)
     if damping_coefficients is not None:
@@ -169,4 +172,9 @@ def pack_params(p: "BearingParams", damping_coefficients: np.ndarray | None = No
     ball_size = np.zeros(n_balls)
     if bw.oversize_m:
         ball_size[:] = bw.oversize_m
-    return PackedParams(prm, race_wav, ball_wav, ball_phase, ball_size)
+    op = np.zeros(N_OP)
+    op[O_OMEGA] = p.shaft_speed_rad_s
+    op[O_PX] = ld.radial_load_x_n
+    op[O_PY] = ld.radial_load_y_n
+    op[O_PZ] = ld.axial_preload_n
+    return PackedParams(prm, race_wav, ball_wav, ball_phase, ball_size, op)

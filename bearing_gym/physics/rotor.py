@@ -41,8 +41,8 @@ from numba import njit
 from .ball import B_QI, B_VR_PREV, B_VR_PREV2, B_VZ_PREV, B_VZ_PREV2, B_WB
 from .bearing import N_GEO, ball_geometry, bearing_force_on, cage_speed
 from .layout import (I_CTX, I_CTY, I_CX, I_CY, I_CZ, I_DIVLIM, I_DT, I_ECC, I_IR, I_IZ, I_MASS,
-                     I_NB, I_NBETA, I_NGAMMA, I_NM_MAXIT, I_NM_TOL, I_OMEGA, I_PX, I_PY, I_PZ,
-                     I_RP)
+                     I_NB, I_NBETA, I_NGAMMA, I_NM_MAXIT, I_NM_TOL, I_RP, O_OMEGA, O_PX,
+                     O_PY, O_PZ)
 from .portable_math import pow, sincos
 from .status import ST_DIVERGED, ST_NEWMARK_NOT_CONVERGED, ST_OK  # noqa: F401 - ST_OK re-exported
 
@@ -77,20 +77,21 @@ N_REC = 20
 
 
 @njit(cache=True, inline="always")
-def solve_acceleration(F, prm, cos_shaft, sin_shaft, vstar, a_out):
+def solve_acceleration(F, prm, op, cos_shaft, sin_shaft, vstar, a_out):
     """Solve eq 35 (with damping) for the acceleration at velocity v = v* + gamma dt a.
 
     (M + gamma dt (C + G)) a = F + P + unbalance - (C + G) v*, with the unbalance force
-    m e omega^2 (cos theta_s, sin theta_s) at the shaft angle theta_s.
+    m e omega^2 (cos theta_s, sin theta_s) at the shaft angle theta_s; speed and loads from the
+    operating point ``op`` (``O_*``).
     """
     m = prm[I_MASS]
     ir = prm[I_IR]
-    omega = prm[I_OMEGA]
+    omega = op[O_OMEGA]
     gdt = prm[I_NGAMMA] * prm[I_DT]
     unb = m * prm[I_ECC] * omega * omega
-    a_out[0] = (F[0] + prm[I_PX] + unb * cos_shaft - prm[I_CX] * vstar[0]) / (m + gdt * prm[I_CX])
-    a_out[1] = (F[1] + prm[I_PY] + unb * sin_shaft - prm[I_CY] * vstar[1]) / (m + gdt * prm[I_CY])
-    a_out[2] = (F[2] + prm[I_PZ] - prm[I_CZ] * vstar[2]) / (m + gdt * prm[I_CZ])
+    a_out[0] = (F[0] + op[O_PX] + unb * cos_shaft - prm[I_CX] * vstar[0]) / (m + gdt * prm[I_CX])
+    a_out[1] = (F[1] + op[O_PY] + unb * sin_shaft - prm[I_CY] * vstar[1]) / (m + gdt * prm[I_CY])
+    a_out[2] = (F[2] + op[O_PZ] - prm[I_CZ] * vstar[2]) / (m + gdt * prm[I_CZ])
     g = prm[I_IZ] * omega
     # [[ir + gdt ctx, gdt g], [-gdt g, ir + gdt cty]] (atx, aty) = (rx, ry)
     rx = F[3] - prm[I_CTX] * vstar[3] - g * vstar[4]
@@ -129,11 +130,12 @@ def newmark_velocity(vstar_k, a_k, dt, gam):
 
 
 @njit(cache=True)
-def integrate(prm, race_wav, ball_wav, ball_phase, ball_size, X, V, A, scal, psi_b, ball_v,
+def integrate(prm, op, race_wav, ball_wav, ball_phase, ball_size, X, V, A, scal, psi_b, ball_v,
               ball_out, n_steps, record_every, rec):
     """Advance the rotor-bearing system ``n_steps`` Newmark steps in place.
 
-    State: X, V, A (5,), ``scal`` (S_* entries), ball spin angles ``psi_b`` (N,), ball
+    Constants ``prm`` (``I_*``), operating point ``op`` (``O_*``: speed, loads, preload; read, not
+    written). State: X, V, A (5,), ``scal`` (S_* entries), ball spin angles ``psi_b`` (N,), ball
     displacements ``ball_v`` (N, 2) and contact state ``ball_out``. Every ``record_every``
     steps one row of ``rec`` (R_* columns) is written. Returns (status, steps_done, rows).
     No allocation happens inside the step loop.
@@ -145,7 +147,7 @@ def integrate(prm, race_wav, ball_wav, ball_phase, ball_size, X, V, A, scal, psi
     tol = prm[I_NM_TOL]
     maxit = int(prm[I_NM_MAXIT])
     divlim = prm[I_DIVLIM]
-    omega = prm[I_OMEGA]
+    omega = op[O_OMEGA]
     rot_scale = prm[I_RP]          # rotations compared as displacements at the groove radius
     F = np.zeros(5)
     Xn = np.zeros(5)
@@ -189,11 +191,11 @@ def integrate(prm, race_wav, ball_wav, ball_phase, ball_size, X, V, A, scal, psi
         diff_prev = 0.0
         for it in range(maxit):
             scal[S_N_EVAL] += 1.0
-            st = bearing_force_on(Xn, geo, prm, ball_size, ball_v, ball_out, F)
+            st = bearing_force_on(Xn, geo, prm, omega, ball_size, ball_v, ball_out, F)
             if st != 0:
                 status = st
                 break
-            solve_acceleration(F, prm, cos_shaft, sin_shaft, vstar, a_new)
+            solve_acceleration(F, prm, op, cos_shaft, sin_shaft, vstar, a_new)
             diff = 0.0
             for k in range(5):
                 x_new = newmark_displacement(base[k], a_new[k], dt, beta)

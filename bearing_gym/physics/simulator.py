@@ -13,8 +13,8 @@ from bearing_gym.validation import check_real
 from .ball import B_CTRL, B_VR_PREV, B_VR_PREV2, B_VZ_PREV, B_VZ_PREV2, N_BALL_OUT
 from .bearing import bearing_force, cage_speed
 from .equilibrium import static_equilibrium
-from .layout import (CONTROL_INNER, I_CONTROL, I_CTX, I_CX, I_DT, I_IR, I_MASS, I_OMEGA, I_PHI0,
-                     I_PX, I_PY, I_PZ, pack_params)
+from .layout import (CONTROL_INNER, I_CONTROL, I_CTX, I_CX, I_DT, I_IR, I_MASS, I_PHI0,
+                     O_OMEGA, O_PX, O_PY, O_PZ, pack_params)
 from .rotor import (N_REC, N_SCAL, R_CAGE_ANGLE, R_CAGE_SPEED, R_F, R_N_INNER, R_SHAFT, R_T, R_V,
                     R_X, S_A_PREV, S_A_PREV2, S_CAGE, S_CAGE_SPEED, S_SHAFT, S_T, integrate,
                     solve_acceleration)
@@ -160,7 +160,7 @@ class Simulator:
         s.ball_out[:, B_CTRL] = eq.inner_race_control.astype(float)
         F = np.zeros(5)
         p = self._packed
-        st = bearing_force(s.X, 0.0, 0.0, s.psi_b, prm, p.race_wav, p.ball_wav, p.ball_phase,
+        st = bearing_force(s.X, 0.0, 0.0, s.psi_b, prm, p.op[O_OMEGA], p.race_wav, p.ball_wav, p.ball_phase,
                            p.ball_size, s.ball_v, s.ball_out, F)
         if st != 0:
             raise SimulationError(f"initial bearing force failed: {status_text(st)}", None)
@@ -168,9 +168,9 @@ class Simulator:
         s.ball_out[:, B_VZ_PREV] = s.ball_v[:, 1]
         s.ball_out[:, B_VR_PREV2] = s.ball_v[:, 0]
         s.ball_out[:, B_VZ_PREV2] = s.ball_v[:, 1]
-        omega = prm[I_OMEGA]
+        omega = p.op[O_OMEGA]
         s.scal[S_CAGE_SPEED] = cage_speed(s.ball_out, s.psi_b.shape[0], eq.cage_speed_ratio * omega)
-        solve_acceleration(F, _zero_gamma(prm), 1.0, 0.0, s.V, s.A)   # shaft angle 0
+        solve_acceleration(F, _zero_gamma(prm), p.op, 1.0, 0.0, s.V, s.A)   # shaft angle 0
         s.scal[S_A_PREV:S_A_PREV + 5] = s.A              # no extrapolation on the first step
         s.scal[S_A_PREV2:S_A_PREV2 + 5] = s.A
         return self.state
@@ -197,35 +197,35 @@ class Simulator:
     # --- operating point (settable between advance calls) -------------------------------------
     @property
     def axial_preload_n(self) -> float:
-        return float(self._packed.prm[I_PZ])
+        return float(self._packed.op[O_PZ])
 
     @axial_preload_n.setter
     def axial_preload_n(self, value: float) -> None:
-        self._packed.prm[I_PZ] = check_real("axial_preload_n", value, 0.0, 1e6)
+        self._packed.op[O_PZ] = check_real("axial_preload_n", value, 0.0, 1e6)
 
     @property
     def radial_load_x_n(self) -> float:
-        return float(self._packed.prm[I_PX])
+        return float(self._packed.op[O_PX])
 
     @radial_load_x_n.setter
     def radial_load_x_n(self, value: float) -> None:
-        self._packed.prm[I_PX] = check_real("radial_load_x_n", value, -1e6, 1e6)
+        self._packed.op[O_PX] = check_real("radial_load_x_n", value, -1e6, 1e6)
 
     @property
     def radial_load_y_n(self) -> float:
-        return float(self._packed.prm[I_PY])
+        return float(self._packed.op[O_PY])
 
     @radial_load_y_n.setter
     def radial_load_y_n(self, value: float) -> None:
-        self._packed.prm[I_PY] = check_real("radial_load_y_n", value, -1e6, 1e6)
+        self._packed.op[O_PY] = check_real("radial_load_y_n", value, -1e6, 1e6)
 
     @property
     def shaft_speed_rpm(self) -> float:
-        return float(rad_s_to_rpm(self._packed.prm[I_OMEGA]))
+        return float(rad_s_to_rpm(self._packed.op[O_OMEGA]))
 
     @shaft_speed_rpm.setter
     def shaft_speed_rpm(self, value: float) -> None:
-        self._packed.prm[I_OMEGA] = rpm_to_rad_s(check_real("shaft_speed_rpm", value, 0.0, 200000.0))
+        self._packed.op[O_OMEGA] = rpm_to_rad_s(check_real("shaft_speed_rpm", value, 0.0, 200000.0))
 
     @property
     def dt_s(self) -> float:
@@ -246,7 +246,7 @@ class Simulator:
         rec = np.empty((n_steps // int(record_every), N_REC))
         p = self._packed
         s = self._state
-        status, done, rows = integrate(p.prm, p.race_wav, p.ball_wav, p.ball_phase, p.ball_size,
+        status, done, rows = integrate(p.prm, p.op, p.race_wav, p.ball_wav, p.ball_phase, p.ball_size,
                                        s.X, s.V, s.A, s.scal, s.psi_b, s.ball_v, s.ball_out,
                                        n_steps, int(record_every), rec)
         record = SimulationRecord(rec[:rows], status_text(status))

@@ -42,7 +42,7 @@ def _run(packed, V0, A0, n_steps):
     scal[S_A_PREV:S_A_PREV + 5] = A
     scal[S_A_PREV2:S_A_PREV2 + 5] = A
     rec = np.empty((n_steps, N_REC))
-    status, done, rows = integrate(packed.prm, packed.race_wav, packed.ball_wav, packed.ball_phase,
+    status, done, rows = integrate(packed.prm, packed.op, packed.race_wav, packed.ball_wav, packed.ball_phase,
                                    packed.ball_size, X, V, A, scal, np.zeros(n), np.zeros((n, 2)),
                                    np.zeros((n, N_BALL_OUT)), n_steps, 1, rec)
     assert (status, done, rows) == (ST_OK, n_steps, n_steps)
