@@ -178,7 +178,7 @@ def _candidates(plan: np.ndarray, t: int, s: PlannerSettings, ep: _Episode) -> l
             p[t:t + s.replan_every] = base + d
             add(p)
     for v in s.jumps_n:
-        if ep.in_range(v) and abs(v - base) > max(abs(d) for d in s.local_n):
+        if ep.in_range(v) and abs(v - base) > max((abs(d) for d in s.local_n), default=0.0):
             p = plan.copy()
             p[t:] = v
             add(p)
