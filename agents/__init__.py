@@ -4,12 +4,13 @@
 Grouped by job, each subpackage importing only those above it in this list (tests/test_architecture.py):
 
     agents.paths, agents.protocol   where files live; the frozen protocol (seeds, budgets)
-    agents.policies                 scripted baselines, the oracle, the contextual constant, the MPC,
+    agents.policies                 scripted baselines, the oracle, the contextual constant, the
+                                    planner (the upper reference), the MPC (the tier-gap study),
                                     the portable float64 inference of trained SB3 policies
     agents.evaluation               running policies on episodes (one loop for all), their results,
                                     loading trained models, watching one play
     agents.references               computing the references (validation constant, hindsight,
-                                    contextual fit, tier gap) and their one store
+                                    planner runs, contextual fit, tier gap) and their one store
     agents.leaderboard              the board: settings, scoring, tables, results file, breakdowns,
                                     learning curves, chaos replicas, side-by-side comparisons
     agents.training                 what train.py and the protocol's runs share (callbacks, the

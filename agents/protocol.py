@@ -17,7 +17,7 @@ Every env seed a script uses comes from one of these disjoint ranges (``check_di
 
 The leaderboard (:mod:`agents.leaderboard`) runs ``TEST_EPISODES`` test scenarios per tier
 (seeds ``TEST.start`` on; one on a deterministic tier, where every seed gives the same episode:
-:func:`episodes_for_tier`), the MPC reference on the first ``MPC_EPISODES`` of them, every
+:func:`episodes_for_tier`), the upper reference (the planner) on every one of them, every
 learned algorithm with the training seeds of :func:`training_seeds` and the step budget
 ``STEP_BUDGET_PER_RUN``. ``check_protocol`` (run at import) checks that these numbers fit the
 ranges and the minimums of the protocol.
@@ -30,7 +30,7 @@ from typing import Any
 
 
 __all__ = ["TRAIN", "VALIDATION", "TIER_DESIGN", "TEST", "RETIRED", "RANGES", "check_disjoint",
-           "range_of", "TEST_EPISODES", "MPC_EPISODES", "VALIDATION_CONSTANT_EPISODES",
+           "range_of", "TEST_EPISODES", "VALIDATION_CONSTANT_EPISODES",
            "CONTEXTUAL_FIT_EPISODES", "CONTEXTUAL_FIT_SEED", "HINDSIGHT_GRID_STEP_N",
            "VALIDATION_GRID_STEP_N", "CONTEXTUAL_GRID_STEP_N", "ALGORITHMS", "HEADLINE_ALGORITHM",
            "HEADLINE_SEEDS", "OTHER_SEEDS", "RUN_SEED_STRIDE", "STEP_BUDGET_PER_RUN",
@@ -51,9 +51,6 @@ RANGES = {"train": TRAIN, "validation": VALIDATION, "retired": RETIRED, "tier_de
 #: Test episodes per tier (seeds TEST.start .. TEST.start + TEST_EPISODES - 1), every policy and
 #: reference on the same scenarios.
 TEST_EPISODES = 100
-#: The MPC reference (agents.policies.mpc, about 20 simulated intervals per real one) runs on the first
-#: MPC_EPISODES test scenarios only; elsewhere the upper reference is the hindsight constant.
-MPC_EPISODES = 20
 #: Validation episodes on which the best constant preload is chosen (seeds VALIDATION.start on).
 VALIDATION_CONSTANT_EPISODES = 50
 #: Training-range scenarios the contextual baseline is fitted on (seeds CONTEXTUAL_FIT_SEED on).
@@ -137,7 +134,7 @@ def _block(first: int, episodes: int, within: range, name: str) -> range:
 
 
 def held_out_seeds(episodes: int = TEST_EPISODES) -> range:
-    """The leaderboard's test seeds (the MPC subset is the first MPC_EPISODES of them)."""
+    """The leaderboard's test seeds."""
     return _block(TEST.start, episodes, TEST, "test")
 
 
@@ -178,15 +175,13 @@ def episodes_for_tier(tier: str, episodes: int, minimum: int = 1) -> int:
 
 def check_protocol(**overrides: Any) -> None:
     """Raise ValueError naming the first broken rule of the protocol: disjoint ranges, at least
-    100 test episodes per tier, an MPC subset inside them, at least 5 training seeds for the
+    100 test episodes per tier, at least 5 training seeds for the
     headline algorithm and 3 for the others, training seeds and the contextual fit in TRAIN and
     apart. ``overrides`` replace module constants by name (for tests)."""
     g = {**globals(), **overrides}
     check_disjoint(g["RANGES"])
     if g["TEST_EPISODES"] < 100:
         raise ValueError(f"TEST_EPISODES must be >= 100 (the issue's minimum), got {g['TEST_EPISODES']}")
-    if not 1 <= g["MPC_EPISODES"] <= g["TEST_EPISODES"]:
-        raise ValueError(f"MPC_EPISODES must be in [1, TEST_EPISODES], got {g['MPC_EPISODES']}")
     if g["HEADLINE_SEEDS"] < 5 or g["OTHER_SEEDS"] < 3:
         raise ValueError("the headline algorithm needs >= 5 training seeds and the others >= 3, got "
                          f"{g['HEADLINE_SEEDS']} and {g['OTHER_SEEDS']}")

@@ -143,6 +143,16 @@ def sweep_row(sweep: list[EvalResult], preload_n: float) -> EvalResult | None:
     return next((r for r in sweep if r.name == name), None)
 
 
+def hindsight_preloads(sweep: list[EvalResult], preloads_n) -> list[float]:
+    """Each episode's hindsight best constant (first best on ties, as :func:`hindsight_constant`
+    picks it) of ``sweep``, the result of :func:`constant_sweep` over ``preloads_n``."""
+    names = [ConstantPreload(float(p)).name for p in preloads_n]
+    if [r.name for r in sweep] != names:
+        raise ValueError(f"the sweep's rows {[r.name for r in sweep][:3]}... are not those of {names[:3]}...")
+    pick = np.argmax(np.array([r.returns for r in sweep]), axis=0)
+    return [float(preloads_n[k]) for k in pick]
+
+
 def hindsight_constant(sweep: list[EvalResult]) -> EvalResult:
     """Per scenario, the best of the swept constant preloads chosen with hindsight (knowing the
     scenario's outcome): a clairvoyant reference that no fixed-preload practice can beat."""

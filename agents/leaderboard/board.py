@@ -8,13 +8,15 @@ as normalised scores with rliable statistics.
 
 Per tier (``--tier``, default the benchmark's), on ``agents.protocol.TEST_EPISODES`` test
 scenarios (seeds ``TEST.start`` on; one on a deterministic tier, ``paper``, where every seed
-gives the same episode: :meth:`Settings.for_tier`), one batch per phase:
+gives the same episode: :meth:`Settings.for_tier`):
 
 1. the validation-chosen constant, read from ``agents/data/reference_constants.json``
    (``python -m agents.references`` builds it on validation seeds), and the hindsight best
    constant per episode of the 50 N grid (one sweep of the grid; the chosen constant's row is
    its run in that sweep);
-2. the contextual constant (``agents/data/contextual_<tier>.json``, ``python -m agents.references.contextual_fit``),
+2. the upper reference: the planner (:mod:`agents.policies.planner`: the true simulator and the
+   episode's future) on every test episode, starting from the episode's hindsight constant;
+3. the contextual constant (``agents/data/contextual_<tier>.json``, ``python -m agents.references.contextual_fit``),
    the oracle (reward map, nearest cell) and the learned policies: ``--model`` directories
    written by train.py (grouped by algorithm: one directory per training seed) and, with
    ``--pretrained``, the shipped policy of each algorithm in ``agents/pretrained/<algo>/``
@@ -22,29 +24,27 @@ gives the same episode: :meth:`Settings.for_tier`), one batch per phase:
    every learned policy runs on every tier asked for, its row named "... - trained on <tier>"
    on the others (every tier has the same observation space; on ``field`` a policy trained on
    ``transient`` loses its cage-speed features and meets sensor errors it never saw); only a row
-   on the tier it was trained on can be the headline;
-3. the MPC reference on the first ``MPC_EPISODES`` test scenarios (``--processes`` in parallel).
+   on the tier it was trained on can be the headline (one batch).
 
-A run of the protocol's size stores phases 1 and 3 (per episode) in
+A run of the protocol's size stores the references (per episode) in
 ``agents/data/test_references_<tier>.json`` (:mod:`agents.references.store`);
 ``--stored-references`` reads them instead of computing them, runs the validation constant again
 beside the policies and refuses a store whose returns it does not reproduce. The same store can
 be built in parts spread over sessions: :mod:`agents.leaderboard.reference_parts`.
 
-Scores and statistics: :mod:`agents.leaderboard.scoring` (0 = the validation-chosen constant, 1 = the better
-of MPC and hindsight on the episode - the hindsight alone where the MPC did not run - a
-denominator floor of one quasi-periodic interval's cost, IQM with stratified-bootstrap 95 %
+Scores and statistics: :mod:`agents.leaderboard.scoring` (0 = the validation-chosen constant, 1 = the
+planner's return on the episode, never below the hindsight constant's - a denominator floor of one quasi-periodic interval's cost, IQM with stratified-bootstrap 95 %
 intervals and the probability of improvement over the validation constant, with rliable). It
 writes ``results.json`` (:mod:`agents.leaderboard.results_file`; per tier and per policy: ``normalised_score_iqm``, ``ci_low``,
 ``ci_high``, ``n_seeds``, ``n_episodes`` and the raw metrics) and a markdown table beside it;
 a full run with ``--model`` writes ``docs/results.json`` and ``docs/results_table.md`` (the
 shipped policies alone, without ``--model``: ``runs/leaderboard_pretrained/``). Every departure from the
-protocol (fewer episodes, a provisional stored constant, no MPC) is listed in
+protocol (fewer episodes, a provisional stored constant, no planner) is listed in
 ``protocol_deviations`` and the tier is marked ``"protocol": false``.
 
 ``--smoke`` runs the same code on 2 test episodes of 3 intervals, with the validation constant
 and the contextual fit computed on the spot at that size on coarse grids (written to the output
-directory, not to agents/data), a 1-episode MPC and few bootstrap replications: it checks the
+directory, not to agents/data), a planner with few candidates and few bootstrap replications: it checks the
 pipeline, its numbers mean nothing.
 """
 
@@ -53,7 +53,6 @@ from __future__ import annotations
 import argparse
 import dataclasses
 import json
-import math
 import sys
 import time
 from dataclasses import dataclass, field
@@ -71,17 +70,23 @@ from agents.policies.contextual import DATA_DIR, ContextualConstant, contextual_
 from agents.references.contextual_fit import fit_contextual
 from agents.leaderboard.tables import summarise, to_markdown
 from agents.evaluation.trained import PRETRAINED_DIR, SB3Policy, load_trained, shipped_dirs
-from agents.evaluation.episodes import run_policies, sweep_row
+from agents.evaluation.episodes import hindsight_preloads, run_policies, sweep_row
 from agents.policies.oracle import MapOracle
 from agents.policies.scripted import ConstantPreload
 from agents.references.store import STORE_PATH, ValidationChoice, load_choice, save_choice
-from agents.references.validation import choose_validation_constant, hindsight_reference, run_mpc
+from agents.references.validation import choose_validation_constant, hindsight_grid, hindsight_reference
+from agents.references.planner_runs import replay
+from agents.references.tier_gap import paired_ci
+from agents.policies.planner import plan_episode
 from agents.leaderboard.results_file import default_out, header, kept_tiers, table_path, write
 from agents.references.store import StoredReferences, load_references
 from agents.leaderboard.settings import FULL, SMOKE, Settings
 
 
-__all__ = ["LearnedGroup", "learned_groups", "run_tier", "summarise",
+#: the planner's row on the board (the upper reference)
+PLANNER_ROW = "planner (true simulator, the episode's future)"
+
+__all__ = ["PLANNER_ROW", "LearnedGroup", "learned_groups", "run_tier", "summarise",
            "to_markdown", "main"]
 
 
@@ -167,10 +172,10 @@ def _contextual(tier: str, s: Settings, contextual_dir: Path, out_dir: Path, pro
     return pol
 
 
-def _references(tier: str, s: Settings, choice: ValidationChoice, seeds: range, processes: int,
-                progress: bool, stored: StoredReferences | None) -> tuple[StoredReferences, float]:
-    """The validation constant, hindsight and MPC rows on the test episodes: computed (and the
-    MPC's mean wall time per episode), or the stored ones (NaN)."""
+def _references(tier: str, s: Settings, choice: ValidationChoice, seeds: range, progress: bool,
+                stored: StoredReferences | None) -> StoredReferences:
+    """The validation constant, hindsight and planner rows on the test episodes: the stored ones,
+    or computed (the planner on every episode, from the sweep's hindsight constants)."""
     shape = f"{s.episodes} test episodes of {s.episode_steps} steps"
     if stored is not None:
         refs = stored.first(s.episodes)
@@ -184,24 +189,43 @@ def _references(tier: str, s: Settings, choice: ValidationChoice, seeds: range, 
         if refs.hindsight_grid_step_n != s.hindsight_grid_step_n:
             raise ValueError(f"the stored hindsight reference of tier {tier} searched a {refs.hindsight_grid_step_n:g} N "
                              f"grid, these settings a {s.hindsight_grid_step_n:g} N one")
-        if refs.mpc_episodes > s.mpc_episodes:          # fewer MPC episodes asked for than stored
-            refs = dataclasses.replace(refs, mpc=refs.first(s.mpc_episodes).mpc if s.mpc_episodes else None)
-        wall = refs.mpc_wall_s_per_episode
-        return refs, math.nan if wall is None or refs.mpc is None else float(wall)
+        if refs.planner is not None and refs.planner_settings != s.planner_settings():
+            raise ValueError(f"the stored planner of tier {tier} searched with {refs.planner_settings}, these settings "
+                             f"name {s.planner_settings()}")
+        if s.planner is None:
+            refs = dataclasses.replace(refs, planner=None, planner_settings=None, planner_wall_s_per_episode=None)
+        return refs
+    extra = (choice.preload_n,)
     hindsight, sweep = hindsight_reference(tier, s.episodes, seeds.start, s.episode_steps, s.hindsight_grid_step_n,
-                                           extra_n=(choice.preload_n,),
+                                           extra_n=extra,
                                            progress=f"{tier} 1/3: constant sweep x {shape}" if progress else None)
-    m = min(s.mpc_episodes, s.episodes)
-    mpc_res, mpc_wall = (None, [math.nan])
-    if m > 0:
-        mpc_res, mpc_wall = run_mpc(tier, seeds[:m], s.episode_steps, s.mpc, processes,
-                                    progress=f"{tier} 3/3: MPC" if progress else None)
-    mpc_settings = s.mpc_settings()
-    wall = float(np.mean(mpc_wall))
-    refs = StoredReferences(tier, tuple(seeds), s.episode_steps, choice.preload_n, s.hindsight_grid_step_n,
-                            sweep_row(sweep, choice.preload_n), hindsight, mpc_res, mpc_settings,
-                            None if math.isnan(wall) else wall)
-    return refs, wall
+    planner = wall = None
+    if s.planner is not None:
+        held = hindsight_preloads(sweep, hindsight_grid(s.hindsight_grid_step_n, extra))
+        plans = []
+        for k, seed in enumerate(seeds):
+            if progress:
+                print(f"{tier} 2/3: planner, episode {k + 1} of {s.episodes}", flush=True)
+            plans.append(plan_episode(tier, seed, s.episode_steps, s.planner,
+                                      hindsight=(held[k], float(hindsight.returns[k]))))
+        planner = replay(tier, plans, s.episode_steps)
+        wall = float(np.mean([p.wall_s for p in plans]))
+    return StoredReferences(tier, tuple(seeds), s.episode_steps, choice.preload_n, s.hindsight_grid_step_n,
+                            sweep_row(sweep, choice.preload_n), hindsight, planner, s.planner_settings(), wall)
+
+
+def _planner_gain(refs: StoredReferences) -> dict[str, Any] | None:
+    """The planner minus the hindsight constant, paired over the test episodes: what closed-loop
+    scheduling with the episode's future adds to the best constant (a tier's closed-loop gap)."""
+    if refs.planner is None:
+        return None
+    diff = np.asarray(refs.planner.returns) - np.asarray(refs.hindsight.returns)
+    out: dict[str, Any] = {"mean": float(np.mean(diff)), "median": float(np.median(diff)),
+                           "improved_episodes": int(np.sum(diff > 0)), "episodes": int(diff.size)}
+    if diff.size > 1:
+        _, out["ci_low"], out["ci_high"] = paired_ci(diff)
+        out["ci_method"] = "paired Student-t 95 % over the test episodes"
+    return out
 
 
 def _inference(policies: list) -> str:
@@ -214,11 +238,11 @@ def _inference(policies: list) -> str:
 
 def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = STORE_PATH,
              contextual_dir: Path = DATA_DIR, out_dir: Path = Path("."),
-             processes: int = 1, progress: bool = True, stored: StoredReferences | None = None,
+             progress: bool = True, stored: StoredReferences | None = None,
              save_references_to: Path | None = None) -> dict[str, Any]:
     """Every reference and learned row of ``tier``, as the tier's object of results.json.
 
-    With ``stored`` the validation constant, hindsight and MPC rows are the stored ones
+    With ``stored`` the validation constant, hindsight and planner rows are the stored ones
     (:mod:`agents.references.store`; the validation constant runs again beside the policies
     and must reproduce its stored returns); else they are computed, and written to
     ``save_references_to`` if given."""
@@ -227,30 +251,26 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
         stored.check_kernel(f"python -m agents.leaderboard --tier {tier}")
     s = s.for_tier(tier)
     deterministic = tier_is_deterministic(tier)
-    protocol_s = FULL.for_tier(tier)     # the protocol's test and MPC episodes on this tier
+    protocol_s = FULL.for_tier(tier)     # the protocol's test episodes on this tier
     deviations: list[str] = []
     choice = _validation_choice(tier, s, store, out_dir, progress)
     deviations += [f"validation constant: {p}" for p in choice.protocol_problems()]
     contextual = _contextual(tier, s, contextual_dir, out_dir, progress)
     seeds = P.held_out_seeds(s.episodes)
-    refs, mpc_wall_s = _references(tier, s, choice, seeds, processes, progress, stored)
+    refs = _references(tier, s, choice, seeds, progress, stored)
     if stored is None and save_references_to is not None:
         refs.save(save_references_to)
     shape = f"{s.episodes} test episodes of {s.episode_steps} steps"
     live_constant = [ConstantPreload(choice.preload_n)] if stored is not None else []
     policies = live_constant + [contextual, MapOracle()] + [p for g in groups for p in g.policies]
     ran = run_policies(policies, s.episodes, seeds.start, s.episode_steps, env_kwargs={"tier": tier},
-                       progress=f"{tier} 2/3: {len(policies)} policies x {shape}" if progress else None)
+                       progress=f"{tier} 3/3: {len(policies)} policies x {shape}" if progress else None)
     if live_constant:
         refs.check_fresh(ran[0].returns, f"python -m agents.leaderboard --tier {tier}")
         ran = ran[1:]
     contextual_res, oracle_res, learned_res = ran[0], ran[1], ran[2:]
-    m, mpc_res = refs.mpc_episodes, refs.mpc
     r0 = refs.validation_constant.returns
-    mpc_full = np.full(s.episodes, np.nan)
-    if mpc_res is not None:
-        mpc_full[:m] = mpc_res.returns
-    r1 = scoring.upper_reference(refs.hindsight.returns, mpc_full)
+    r1 = scoring.upper_reference(refs.hindsight.returns, None if refs.planner is None else refs.planner.returns)
     reps = dict(bootstrap_reps=s.bootstrap_reps, poi_reps=s.poi_reps)
 
     rows: dict[str, dict] = {}
@@ -262,10 +282,11 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
                                             features="squares" if contextual.squares else "linear",
                                             fit=contextual.meta)
     rows["oracle (reward map, nearest cell)"] = summarise("reference", [oracle_res], r0, r1, **reps)
-    if mpc_res is not None:
-        rows[f"MPC (true simulator, first {m} episodes)"] = summarise(
-            "reference", [mpc_res], r0[:m], r1[:m], **reps, **refs.mpc_settings,
-            wall_s_per_episode=None if math.isnan(mpc_wall_s) else mpc_wall_s)
+    if refs.planner is not None:
+        rows[PLANNER_ROW] = summarise("reference", [refs.planner], r0, r1, **reps, **refs.planner_settings,
+                                      wall_s_per_episode=refs.planner_wall_s_per_episode,
+                                      role="the upper reference: 1 by definition (below 1 only where the gap to "
+                                           "the validation constant is under the denominator floor)")
     k = 0
     for g in groups:                # also those trained on another tier, named so (row_name)
         runs = learned_res[k:k + len(g.policies)]
@@ -280,23 +301,23 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
             deviations.append(f"{g.row_name(tier)}: {len(g.policies)} training seeds (the protocol: {want})")
     if s.episodes < protocol_s.episodes:
         deviations.append(f"{s.episodes} test episodes (the protocol: {protocol_s.episodes})")
-    if m < min(protocol_s.mpc_episodes, s.episodes):
-        deviations.append(f"MPC on {m} episodes (the protocol: {protocol_s.mpc_episodes})")
-    if m < min(s.mpc_episodes, s.episodes):
-        deviations.append(f"MPC on the {m} stored episodes ({s.mpc_episodes} asked for)")
+    if refs.planner is None:
+        deviations.append("no planner: the upper reference is the hindsight constant alone (the protocol: the planner)")
+    elif refs.planner_settings != protocol_s.planner_settings():
+        deviations.append(f"the planner searched with {refs.planner_settings} (the protocol: {protocol_s.planner_settings()})")
     if s.episode_steps != EPISODE_STEPS:
         deviations.append(f"{s.episode_steps}-step episodes (the benchmark: {EPISODE_STEPS})")
     if s.smoke:
         deviations.insert(0, "smoke run: tiny budget, the numbers mean nothing")
-    upper = (f"the better of the MPC and the hindsight constant on the first {m} episodes (the MPC subset); "
-             f"the hindsight constant alone on the other {s.episodes - m}" if m else
-             "the hindsight constant alone (the MPC did not run)")
+    upper = ("the planner (true simulator, the episode's future) on every test episode; it starts from the "
+             "hindsight constant and never ends below it" if refs.planner is not None else
+             "the hindsight constant alone (the planner did not run)")
     return {"episodes": s.episodes, "seeds": [seeds.start, seeds[-1]], "episode_steps": s.episode_steps,
             "deterministic": deterministic,
             **({"deterministic_note": f"every seed gives this tier the same episode (scenario and sensor draw nothing "
                                       f"at random), so one test episode stands for the protocol's {P.TEST_EPISODES}; "
                                       "the validation episode is then the test episode, so the validation constant is "
-                                      "the hindsight constant, and unless the MPC beats it the denominator is the floor: "
+                                      "the hindsight constant, and unless the planner beats it the denominator is the floor: "
                                       "scores are return differences in units of one quasi-periodic interval's cost; "
                                       "the intervals of the learned rows cover the training seeds only"}
                if deterministic else {}),
@@ -306,7 +327,8 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
                                     "episode_steps": choice.episode_steps},
             "references": "stored (agents/data, checked against the validation constant run again)" if stored
             else "computed in this run",
-            "upper_reference": upper, "mpc_episodes": m, "mpc_seeds": [seeds.start, seeds.start + m - 1] if m else [],
+            "upper_reference": upper, "planner_episodes": 0 if refs.planner is None else s.episodes,
+            "planner_minus_hindsight": _planner_gain(refs),
             "hindsight_grid_step_n": refs.hindsight_grid_step_n,
             "denominator_floor": scoring.DENOMINATOR_FLOOR,
             "floored_episodes": scoring.floored_episodes(r0, r1),
@@ -323,12 +345,13 @@ def build_parser() -> argparse.ArgumentParser:
     ap.add_argument("--pretrained-dir", default=str(PRETRAINED_DIR))
     ap.add_argument("--episodes", type=int, help=f"test episodes (default: the protocol's {P.TEST_EPISODES}; "
                                                  "fewer is recorded as a deviation; a deterministic tier runs one)")
-    ap.add_argument("--mpc-episodes", type=int, help=f"MPC subset (default {P.MPC_EPISODES}; 0 skips the MPC)")
-    ap.add_argument("--processes", type=int, default=2, help="parallel MPC episodes (default %(default)d)")
+    ap.add_argument("--no-planner", action="store_true",
+                    help="score against the hindsight constant alone (a deviation; the planner costs ~1.5 min per episode "
+                         "when the references are computed, not stored)")
     ap.add_argument("--store", default=str(STORE_PATH), help="stored validation-chosen constants")
     ap.add_argument("--contextual-dir", default=str(DATA_DIR), help="fitted contextual constants")
     ap.add_argument("--stored-references", action="store_true",
-                    help="take the validation constant, hindsight and MPC rows from agents/data/test_references_<tier>.json "
+                    help="take the validation constant, hindsight and planner rows from agents/data/test_references_<tier>.json "
                          "(written by a protocol run of this command) instead of computing them: minutes, not an hour")
     ap.add_argument("--references-dir", default=str(DATA_DIR), help="where the stored test references are")
     ap.add_argument("--keep-other-tiers", action="store_true",
@@ -337,7 +360,7 @@ def build_parser() -> argparse.ArgumentParser:
     ap.add_argument("--out", help="results.json path (default: docs/results.json for a full run with --model; "
                                   "runs/leaderboard_smoke/results.json with --smoke; "
                                   "runs/leaderboard_pretrained/results.json for the shipped policies alone; "
-                                  "runs/leaderboard_reduced/results.json when --episodes or --mpc-episodes leave the "
+                                  "runs/leaderboard_reduced/results.json when --episodes or --no-planner leave the "
                                   "protocol's size on a tier); "
                                   "the markdown table goes beside it")
     return ap
@@ -351,10 +374,8 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
             raise SystemExit("--episodes must be >= 2 (an interval over episodes needs two; a deterministic tier "
                              "runs one whatever --episodes says)")
         s = dataclasses.replace(s, episodes=a.episodes)
-    if a.mpc_episodes is not None:
-        if a.mpc_episodes < 0:
-            raise SystemExit("--mpc-episodes must be >= 0")
-        s = dataclasses.replace(s, mpc_episodes=a.mpc_episodes)
+    if a.no_planner:
+        s = dataclasses.replace(s, planner=None)
     out = Path(a.out) if a.out else default_out(a.smoke, bool(a.model),
                                                     protocol_size=all(s.protocol_sized(t) for t in a.tier))
     out.parent.mkdir(parents=True, exist_ok=True)     # fail before the run, not after it
@@ -371,7 +392,7 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     for tier in a.tier:
         stored = load_references(tier, Path(a.references_dir)) if a.stored_references else None
         results["tiers"][tier] = run_tier(tier, s, groups, Path(a.store), Path(a.contextual_dir), out.parent,
-                                          processes=1 if s.smoke else a.processes, stored=stored,
+                                          stored=stored,
                                           save_references_to=Path(a.references_dir) if s.protocol_sized(tier) else None)
         results["tiers"][tier]["command"] = results["command"]
     results["wall_s"] = time.time() - t0

@@ -64,11 +64,9 @@ def episode_scores(tier_result: dict[str, Any]) -> tuple[np.ndarray, np.ndarray,
     policies = tier_result["policies"]
     r0 = np.asarray(_row(policies, "validation constant")[1]["episode_returns"][0])
     hindsight = np.asarray(_row(policies, "hindsight constant")[1]["episode_returns"][0])
-    mpc = np.full(r0.size, np.nan)
-    m = tier_result.get("mpc_episodes", 0)
-    if m:
-        mpc[:m] = _row(policies, "MPC")[1]["episode_returns"][0]
-    r1 = scoring.upper_reference(hindsight, mpc)
+    planner = (np.asarray(_row(policies, "planner")[1]["episode_returns"][0])
+               if tier_result.get("planner_episodes", 0) else None)
+    r1 = scoring.upper_reference(hindsight, planner)
     scores = {name: scoring.normalised_scores(np.asarray(row["episode_returns"]), r0, r1)
               for name, row in policies.items() if np.asarray(row["episode_returns"]).shape[-1] == r0.size}
     return r0, r1, scores

@@ -9,7 +9,7 @@ seed ``val_seed + i``) at every validation. Each return becomes a normalised sco
 scenario with the references stored for the tier's validation episodes
 (``agents/data/reference_constants.json``, :meth:`~agents.references.store.ValidationChoice.validation_references`):
 0 = the validation-chosen constant, 1 = the hindsight best constant of the 50 N grid on that
-episode (no MPC on validation episodes), with the denominator floor of :mod:`agents.leaderboard.scoring`.
+episode (no planner on validation episodes), with the denominator floor of :mod:`agents.leaderboard.scoring`.
 The curve of an algorithm is, at each validation step, rliable's IQM over (seeds x episodes)
 with a 95 % stratified-bootstrap interval.
 """

@@ -5,21 +5,23 @@ Per episode, a policy's return R becomes
 
     score = (R - R_0) / max(R_1 - R_0, DENOMINATOR_FLOOR)
 
-with R_0 the return of the validation-chosen constant preload (score 0) and R_1 the better of
-the MPC reference and the hindsight best constant on that episode (score 1); where the MPC did
-not run (outside the protocol's MPC subset) R_1 is the hindsight constant alone.
+with R_0 the return of the validation-chosen constant preload (score 0) and R_1 the planner's
+return on that episode (score 1; :mod:`agents.policies.planner`, the true simulator and the
+episode's future, which starts from the hindsight best constant and never ends below it; the
+hindsight constant alone where the planner did not run, a protocol deviation).
 
 **The denominator floor.** R_1 - R_0 is >= 0 (the validation constant is one of the hindsight
 grid's candidates) and is ~0 on episodes where the validation constant already is the best
-constant and the MPC finds nothing better. Dividing by it would turn a return difference of a
+constant and the planner finds nothing better. Dividing by it would turn a return difference of a
 fraction of one interval's cost into a score of hundreds. The floor is
 ``DENOMINATOR_FLOOR = 1.0`` reward units: the smallest cost of one quasi-periodic control
 interval in the default reward (``VibrationFirstReward``: q (1 + a / a_ref) >= 1), i.e. a gap
 smaller than one quasi-periodic interval per episode is not treated as room to improve. On
 such an episode the score is the return difference in units of that interval's cost (so the
 upper reference itself scores (R_1 - R_0) / floor < 1 there). Scores are never clipped: a
-policy can score below 0 (worse than the validation constant) or above 1 (better than both
-upper references); the number of floored episodes is reported with every tier.
+policy can score below 0 (worse than the validation constant) or above 1 (better than the
+planner: then the planner is not yet a bound on that episode, and the board counts how often);
+the number of floored episodes is reported with every tier.
 
 **Aggregation.** Scores are arranged as rliable's (runs x tasks) matrix: training seeds x test
 episodes. ``iqm_interval`` gives the interquartile mean with a 95 % stratified-bootstrap
@@ -77,16 +79,22 @@ def _global_seed(seed: int) -> Iterator[None]:
         np.random.set_state(state)
 
 
-def upper_reference(hindsight: np.ndarray, mpc: np.ndarray | None = None) -> np.ndarray:
-    """R_1 per episode: the better of the hindsight constant and the MPC where the MPC ran
-    (``mpc`` NaN where it did not, or None if it ran nowhere)."""
+def upper_reference(hindsight: np.ndarray, planner: np.ndarray | None = None) -> np.ndarray:
+    """R_1 per episode: the planner's return (None: the planner did not run, the hindsight
+    constant's). Raises if the planner ends below the hindsight constant on an episode: it starts
+    from it and accepts only improvements, so that would mean a broken store."""
     h = np.asarray(hindsight, dtype=np.float64)
-    if mpc is None:
+    if planner is None:
         return h.copy()
-    m = np.asarray(mpc, dtype=np.float64)
-    if m.shape != h.shape:
-        raise ValueError(f"mpc returns {m.shape} must match the hindsight's {h.shape} (NaN where the MPC did not run)")
-    return np.where(np.isnan(m), h, np.fmax(h, m))
+    p = np.asarray(planner, dtype=np.float64)
+    if p.shape != h.shape:
+        raise ValueError(f"planner returns {p.shape} must match the hindsight's {h.shape} (it runs on every episode)")
+    below = np.flatnonzero(~(p >= h))
+    if below.size:
+        k = int(below[0])
+        raise ValueError(f"the planner returns {p[k]!r} on episode {k}, below the hindsight constant's {h[k]!r}: "
+                         "it cannot (it starts from it); its stored runs are broken")
+    return p.copy()
 
 
 def normalised_scores(returns: np.ndarray, r0: np.ndarray, r1: np.ndarray,

@@ -9,7 +9,11 @@ it was on.
 Files: ``agents/data/planner_<tier>/seed_<seed>.json`` (the plan, its return, the hindsight
 constant it started from, the search's cost, the kernel fingerprint and the planner settings).
 An episode made by another kernel or with other settings counts as missing and is planned again.
-The test episodes are the protocol's (``TEST.start`` on, ``episodes_for_tier``).
+The test episodes are the protocol's (``TEST.start`` on, ``episodes_for_tier``). Where the tier's
+test-reference sweep parts (:func:`agents.references.store.stored_hindsight`) already hold the
+episode's hindsight constant, the planner starts from it instead of sweeping the grid again.
+:func:`replay` runs the stored plans (and their hindsight constants) through the evaluation
+loop: the planner's row of the leaderboard, checked bit for bit against the stored returns.
 """
 
 from __future__ import annotations
@@ -23,11 +27,16 @@ from pathlib import Path
 from bearing_gym.envs.provenance import kernel_hash
 from bearing_gym.task import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
 
-from agents.paths import DATA_DIR
-from agents.policies.planner import PlannerSettings, PlanResult, plan_episode
-from agents.protocol import TEST, TEST_EPISODES, episodes_for_tier
+import numpy as np
 
-__all__ = ["planner_dir", "episode_path", "missing", "load_plans", "run", "main"]
+from agents.paths import DATA_DIR
+from agents.evaluation.episodes import run_policies
+from agents.evaluation.result import EvalResult
+from agents.policies.planner import PlannerSettings, PlanResult, ScheduledPreload, plan_episode
+from agents.protocol import TEST, TEST_EPISODES, episodes_for_tier
+from agents.references.store import stored_hindsight
+
+__all__ = ["planner_dir", "episode_path", "missing", "load_plans", "replay", "run", "main"]
 
 #: measured on the 2-core development VM (one episode, the other core busy): the --until estimate
 NOMINAL_EPISODE_S = 120.0
@@ -71,6 +80,29 @@ def load_plans(tier: str, episodes: int | None = None, settings: PlannerSettings
     return [PlanResult.from_json(json.loads(episode_path(tier, s, data_dir).read_text())) for s in _seeds(tier, episodes)]
 
 
+def replay(tier: str, plans: list[PlanResult], episode_steps: int = EPISODE_STEPS,
+           progress: str | None = None) -> EvalResult:
+    """The plans of consecutive test episodes (``plans[0].seed`` on) run through the evaluation
+    loop as the planner's row, every metric of it; raises unless each plan and each hindsight
+    constant return what the planner stored, bit for bit."""
+    seeds = [p.seed for p in plans]
+    if seeds != list(range(seeds[0], seeds[0] + len(seeds))):
+        raise ValueError(f"replay takes the plans of consecutive seeds, got {seeds[:3]}...")
+    T = episode_steps
+    held = [np.full(T, p.hindsight_preload_n) for p in plans]
+    planner, hindsight = run_policies([ScheduledPreload([p.plan_n for p in plans]),
+                                       ScheduledPreload(held, name="hindsight constant (the planner's start)")],
+                                      len(plans), seeds[0], T, env_kwargs={"tier": tier}, progress=progress)
+    for what, got, want in (("plan", planner.returns, [p.return_ for p in plans]),
+                            ("hindsight constant", hindsight.returns, [p.hindsight_return for p in plans])):
+        bad = [k for k in range(len(plans)) if float(got[k]) != float(want[k])]
+        if bad:
+            k = bad[0]
+            raise RuntimeError(f"planner, tier {tier} seed {seeds[k]}: its {what} replayed returns {got[k]!r}, the "
+                               f"stored {want[k]!r} ({len(bad)} episode(s) differ): plan it again")
+    return planner
+
+
 def run(tier: str, seeds: list[int], settings: PlannerSettings = PlannerSettings(), episode_steps: int = EPISODE_STEPS,
         data_dir: Path = DATA_DIR, deadline: datetime | None = None) -> list[Path]:
     """Plan ``seeds`` one by one, writing each file as it finishes; with ``deadline``, stop before
@@ -84,7 +116,8 @@ def run(tier: str, seeds: list[int], settings: PlannerSettings = PlannerSettings
                 print(f"stopping: the next episode (~{estimate / 60:.1f} min) would not finish by {deadline:%H:%M}")
                 break
         t0 = time.perf_counter()
-        res = plan_episode(tier, seed, episode_steps, settings)
+        res = plan_episode(tier, seed, episode_steps, settings,
+                           hindsight=stored_hindsight(tier, seed, settings.grid_step_n, episode_steps, data_dir))
         spent.append(time.perf_counter() - t0)
         path = episode_path(tier, seed, data_dir)
         path.parent.mkdir(parents=True, exist_ok=True)
@@ -93,7 +126,8 @@ def run(tier: str, seeds: list[int], settings: PlannerSettings = PlannerSettings
         written.append(path)
         print(f"{path}: return {res.return_:.2f} (hindsight {res.hindsight_preload_n:.0f} N: "
               f"{res.hindsight_return:.2f}; +{res.return_ - res.hindsight_return:.2f}), {res.accepted} of "
-              f"{res.decisions} decisions changed the plan, {res.env_steps:,} env steps, {res.wall_s:.0f} s", flush=True)
+              f"{res.decisions} decisions changed the plan, {res.env_steps:,} env steps, {res.wall_s:.0f} s"
+              + (" (hindsight from the stored sweep)" if res.hindsight_from == "stored" else ""), flush=True)
     return written
 
 

@@ -18,7 +18,8 @@ in order), every metric the leaderboard reports of
 
 * the validation-chosen constant (its run in the hindsight sweep),
 * the hindsight best constant of the 50 N grid,
-* the MPC with the true simulator on the first ``MPC_EPISODES`` of them,
+* the planner (the upper reference; the true simulator and the episode's future) on every one
+  of them, its plans replayed through the evaluation loop,
 
 written by the full leaderboard run (``python -m agents.leaderboard``, which computes them) or
 joined from parts (``python -m agents.leaderboard.reference_parts``, the same rows computed a part at a time) and
@@ -51,7 +52,7 @@ from agents.paths import DATA_DIR
 
 
 __all__ = ["STORE_PATH", "ValidationChoice", "load_choice", "save_choice", "rebuild_command", "validation_episodes",
-           "StoredReferences", "references_path", "load_references", "result_to_json", "result_from_json",
+           "StoredReferences", "references_path", "parts_dir", "stored_hindsight", "load_references", "result_to_json", "result_from_json",
            "STALE_TOLERANCE", "DATA_DIR"]
 
 STORE_PATH = DATA_DIR / "reference_constants.json"
@@ -90,6 +91,8 @@ class ValidationChoice:
     wall_s: float | None = None
     #: per candidate, the return of each episode of ``seeds`` (the validation score's references)
     episode_returns: tuple[tuple[float, ...], ...] | None = None
+    #: the fingerprint of the kernel that computed it (None: an entry from before fingerprints)
+    kernel_hash: str | None = None
 
     def __post_init__(self) -> None:
         outside = [s for s in self.seeds if s not in VALIDATION]
@@ -170,7 +173,8 @@ class ValidationChoice:
                    mean_returns=tuple(float(r) for r in d["mean_returns"]),
                    episode_steps=int(d["episode_steps"]), wall_s=d.get("wall_s"),
                    episode_returns=(None if d.get("episode_returns") is None else
-                                    tuple(tuple(float(x) for x in r) for r in d["episode_returns"])))
+                                    tuple(tuple(float(x) for x in r) for r in d["episode_returns"])),
+                   kernel_hash=d.get("kernel_hash"))
 
 
 def _read(path: Path) -> dict:
@@ -208,7 +212,7 @@ def save_choice(choice: ValidationChoice, path: str | Path = STORE_PATH) -> None
 #: (bearing_gym.physics.portable_math; tests/portability), so the same kernel repeats a stored
 #: return exactly, on this machine or any other.
 STALE_TOLERANCE = 0.0
-ROWS = ("validation constant", "hindsight", "mpc")
+ROWS = ("validation constant", "hindsight", "planner")
 #: the "about" of a stored test-references file (the first paragraph of the docstring of the
 #: module that held them before the two stores became one, so stored files keep their text)
 TEST_REFERENCES_ABOUT = ("The expensive references on the test episodes, stored so that a leaderboard of new policies "
@@ -217,6 +221,31 @@ TEST_REFERENCES_ABOUT = ("The expensive references on the test episodes, stored 
 
 def references_path(tier: str, data_dir: Path = DATA_DIR) -> Path:
     return Path(data_dir) / f"test_references_{tier}.json"
+
+
+def parts_dir(tier: str, data_dir: Path = DATA_DIR) -> Path:
+    """Where the test references of ``tier`` are kept in parts (:mod:`agents.leaderboard.reference_parts`)."""
+    return Path(data_dir) / f"test_references_{tier}_parts"
+
+
+def stored_hindsight(tier: str, seed: int, grid_step_n: float, episode_steps: int,
+                     data_dir: Path = DATA_DIR) -> tuple[float, float] | None:
+    """(the hindsight best constant, its return) of test episode ``seed`` from a sweep part made
+    by this kernel on the same grid and episode length, or None if there is none."""
+    here = kernel_hash()
+    for path in sorted(parts_dir(tier, data_dir).glob("sweep_*.json")):
+        try:
+            part = json.loads(path.read_text())
+        except (OSError, ValueError):
+            continue
+        first, n = part.get("first_seed"), part.get("episodes")
+        if (part.get("kernel_hash") != here or part.get("hindsight_grid_step_n") != grid_step_n
+                or part.get("episode_steps") != episode_steps or part.get("hindsight_preload_n") is None
+                or not first <= seed < first + n):
+            continue
+        k = seed - first
+        return float(part["hindsight_preload_n"][k]), float(part["rows"]["hindsight"]["returns"][k])
+    return None
 
 
 def result_to_json(r: EvalResult) -> dict[str, Any]:
@@ -239,7 +268,9 @@ def result_from_json(d: dict[str, Any]) -> EvalResult:
 
 @dataclass
 class StoredReferences:
-    """The stored references of one tier on its first ``len(seeds)`` test episodes."""
+    """The stored references of one tier on its first ``len(seeds)`` test episodes; ``planner``
+    (the upper reference: :mod:`agents.policies.planner`, replayed) on every one of them, or None
+    where it has not run."""
 
     tier: str
     seeds: tuple[int, ...]
@@ -248,26 +279,27 @@ class StoredReferences:
     hindsight_grid_step_n: float
     validation_constant: EvalResult
     hindsight: EvalResult
-    mpc: EvalResult | None           # on the first len(mpc.returns) episodes
-    mpc_settings: dict[str, Any]
-    mpc_wall_s_per_episode: float | None = None   # the MPC's mean wall time per episode
+    planner: EvalResult | None
+    planner_settings: dict[str, Any] | None
+    planner_wall_s_per_episode: float | None = None   # the planner's mean wall time per episode (its search)
     kernel_hash: str | None = field(default_factory=kernel_hash)        # of the kernel that made it
     package_version: str | None = field(default_factory=package_version)
 
-    @property
-    def mpc_episodes(self) -> int:
-        return 0 if self.mpc is None else len(self.mpc.returns)
+    def __post_init__(self) -> None:
+        if self.planner is not None and len(self.planner.returns) != len(self.seeds):
+            raise ValueError(f"tier {self.tier}: the planner row has {len(self.planner.returns)} episodes, "
+                             f"the references {len(self.seeds)}: it runs on every test episode or on none")
 
     def first(self, episodes: int) -> "StoredReferences":
         """The references of the first ``episodes`` stored episodes."""
         if not 1 <= episodes <= len(self.seeds):
             raise ValueError(f"{episodes} episodes asked, {len(self.seeds)} stored for tier {self.tier}")
-        m = min(self.mpc_episodes, episodes)
         return StoredReferences(self.tier, self.seeds[:episodes], self.episode_steps, self.validation_preload_n,
-                              self.hindsight_grid_step_n, self.validation_constant.first(episodes),
-                              self.hindsight.first(episodes), self.mpc.first(m) if m else None, self.mpc_settings,
-                              self.mpc_wall_s_per_episode if m else None, self.kernel_hash,
-                              self.package_version)
+                                self.hindsight_grid_step_n, self.validation_constant.first(episodes),
+                                self.hindsight.first(episodes),
+                                None if self.planner is None else self.planner.first(episodes),
+                                self.planner_settings, self.planner_wall_s_per_episode, self.kernel_hash,
+                                self.package_version)
 
     def check_kernel(self, rebuild: str) -> None:
         """Raise if the store was made by another kernel than this one (or by one before
@@ -296,15 +328,19 @@ class StoredReferences:
     def to_json(self) -> dict[str, Any]:
         return {"about": TEST_REFERENCES_ABOUT, "tier": self.tier, "seeds": list(self.seeds),
                 "episode_steps": self.episode_steps, "validation_preload_n": self.validation_preload_n,
-                "hindsight_grid_step_n": self.hindsight_grid_step_n, "mpc_settings": self.mpc_settings,
+                "hindsight_grid_step_n": self.hindsight_grid_step_n, "planner_settings": self.planner_settings,
                 "validation constant": result_to_json(self.validation_constant),
                 "hindsight": result_to_json(self.hindsight),
-                "mpc": None if self.mpc is None else result_to_json(self.mpc),
-                "mpc_wall_s_per_episode": self.mpc_wall_s_per_episode,
+                "planner": None if self.planner is None else result_to_json(self.planner),
+                "planner_wall_s_per_episode": self.planner_wall_s_per_episode,
                 "kernel_hash": self.kernel_hash, "package_version": self.package_version}
 
     @classmethod
     def from_json(cls, d: dict[str, Any]) -> "StoredReferences":
+        if "mpc" in d and "planner" not in d:
+            raise ValueError(f"stored test references of tier {d.get('tier')} from before the planner (their upper "
+                             f"reference is the MPC): rebuild them with "
+                             f"`python -m agents.leaderboard.reference_parts --tier {d.get('tier')} --merge`")
         missing = [k for k in ROWS + ("tier", "seeds", "episode_steps") if k not in d]
         if missing:
             raise ValueError(f"stored test references lack {', '.join(missing)}")
@@ -314,8 +350,8 @@ class StoredReferences:
         return cls(d["tier"], tuple(int(s) for s in d["seeds"]), int(d["episode_steps"]),
                    float(d["validation_preload_n"]), float(d["hindsight_grid_step_n"]),
                    result_from_json(d["validation constant"]), result_from_json(d["hindsight"]),
-                   None if d["mpc"] is None else result_from_json(d["mpc"]), dict(d.get("mpc_settings") or {}),
-                   d.get("mpc_wall_s_per_episode"), d.get("kernel_hash"), d.get("package_version"))
+                   None if d["planner"] is None else result_from_json(d["planner"]), d.get("planner_settings"),
+                   d.get("planner_wall_s_per_episode"), d.get("kernel_hash"), d.get("package_version"))
 
     def save(self, data_dir: Path = DATA_DIR) -> Path:
         path = references_path(self.tier, data_dir)

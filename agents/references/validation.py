@@ -37,6 +37,7 @@ import numpy as np
 
 from bearing_gym.task import EPISODE_STEPS
 from bearing_gym.envs.reward import REWARD_TERMS
+from bearing_gym.envs.provenance import kernel_hash
 
 from agents.policies.contextual import ContextualConstant
 from agents.evaluation.result import EvalResult
@@ -66,7 +67,13 @@ def choose_validation_constant(tier: str, episodes: int = VALIDATION_CONSTANT_EP
     return ValidationChoice(tier=tier, preload_n=grid[int(np.argmax(means))], seeds=tuple(seeds),
                             grid_step_n=float(grid_step_n), grid_n=grid, mean_returns=tuple(means),
                             episode_steps=episode_steps, wall_s=time.time() - t0,
-                            episode_returns=tuple(tuple(float(x) for x in r.returns) for r in sweep))
+                            episode_returns=tuple(tuple(float(x) for x in r.returns) for r in sweep),
+                            kernel_hash=kernel_hash())
+
+
+def hindsight_grid(grid_step_n: float = HINDSIGHT_GRID_STEP_N, extra_n: Sequence[float] = ()) -> tuple[float, ...]:
+    """The constants :func:`hindsight_reference` sweeps, in its order."""
+    return tuple(sorted(set(preload_grid(grid_step_n)) | {float(p) for p in extra_n}))
 
 
 def hindsight_reference(tier: str, episodes: int, seed: int, episode_steps: int = EPISODE_STEPS,
@@ -75,7 +82,7 @@ def hindsight_reference(tier: str, episodes: int, seed: int, episode_steps: int 
     """(the hindsight best constant per episode, the whole sweep) on episodes seed ..
     seed+episodes-1: every constant of the grid (plus ``extra_n``, e.g. a stored choice made on
     another grid) on every episode, one batch."""
-    grid = tuple(sorted(set(preload_grid(grid_step_n)) | {float(p) for p in extra_n}))
+    grid = hindsight_grid(grid_step_n, extra_n)
     sweep = constant_sweep(grid, episodes, seed, episode_steps, env_kwargs={"tier": tier},
                            progress=progress, **run_kw)
     return hindsight_constant(sweep), sweep

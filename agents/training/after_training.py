@@ -4,10 +4,11 @@ After training, ``train.py`` (README command 1) puts its fresh model beside the 
 (``agents/pretrained/<algo>/``) and every reference on its ``--eval-episodes`` test episodes
 (the first test seeds of :mod:`agents.protocol`) and prints the leaderboard table with
 normalised scores (:func:`agents.leaderboard.board.run_tier`). The expensive references (hindsight
-sweep, MPC) come from ``agents/data/test_references_<tier>.json``, stored by the full
+sweep, planner) come from ``agents/data/test_references_<tier>.json``, stored by the full
 leaderboard run and checked there against the validation constant run again, so the
 evaluation takes minutes; without a store (another episode length, a tier not yet run) they
-are computed here (the hindsight sweep; no MPC) and the evaluation takes longer. A tier with
+are computed here (the hindsight sweep; no planner, whose ~1.5 min per episode is no demo's)
+and the evaluation takes longer. A tier with
 no validation-chosen constant or no fitted contextual baseline gets the per-baseline report
 of :func:`agents.leaderboard.compare.evaluate` instead.
 """
@@ -69,12 +70,12 @@ def evaluate_run(model_dir: str | Path, episodes: int, tier: str, episode_steps:
         try:
             stored = load_references(tier)
         except FileNotFoundError as err:
-            print(f"note: {err}; computing the hindsight reference here (no MPC)", flush=True)
+            print(f"note: {err}; computing the hindsight reference here (no planner)", flush=True)
         if stored is not None and episodes > len(stored.seeds):
             print(f"note: {episodes} episodes asked, {len(stored.seeds)} stored: computing the references here", flush=True)
             stored = None
     s = dataclasses.replace(FULL, episodes=episodes, episode_steps=episode_steps,
-                            mpc_episodes=min(stored.mpc_episodes, episodes) if stored else 0,
+                            planner=FULL.planner if stored is not None and stored.planner is not None else None,
                             bootstrap_reps=BOARD_BOOTSTRAP_REPS, poi_reps=max(200, BOARD_BOOTSTRAP_REPS // 10))
     shipped = bool(shipped_dirs(pretrained_dir, required=False))
     groups = learned_groups([out], pretrained=shipped, pretrained_dir=pretrained_dir)
@@ -85,12 +86,12 @@ def evaluate_run(model_dir: str | Path, episodes: int, tier: str, episode_steps:
         print(f"note: no shipped policies in {pretrained_dir}/<algo>/: the board has this run and the references only",
               flush=True)
     try:
-        result = run_tier(tier, s, groups, processes=1, stored=stored)
+        result = run_tier(tier, s, groups, stored=stored)
     except (ValueError, RuntimeError) as err:      # a stale or mismatched store: not worth the training
         if stored is None:
             raise
-        print(f"note: {err}; computing the hindsight reference here (no MPC)", flush=True)
-        result = run_tier(tier, dataclasses.replace(s, mpc_episodes=0), groups, processes=1, stored=None)
+        print(f"note: {err}; computing the hindsight reference here (no planner)", flush=True)
+        result = run_tier(tier, dataclasses.replace(s, planner=None), groups, stored=None)
     results = {**header("after training (train.py)", f"python train.py ... --out {out}", s.bootstrap_reps, s.poi_reps),
                "tiers": {tier: result}}
     board = out / "leaderboard.json"

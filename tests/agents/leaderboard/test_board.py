@@ -39,7 +39,7 @@ def test_smoke_leaderboard_writes_every_row_with_its_statistics(tmp_path):
     tier = data["tiers"]["transient"]
     assert not tier["protocol"] and tier["protocol_deviations"][0].startswith("smoke run")
     rows = tier["policies"]
-    kinds = {"validation constant": 0, "hindsight constant": 0, "contextual constant": 0, "oracle": 0, "MPC": 0,
+    kinds = {"validation constant": 0, "hindsight constant": 0, "contextual constant": 0, "oracle": 0, "planner": 0,
              "PPO (trained)": 0}
     for name in rows:
         for k in kinds:
@@ -57,8 +57,11 @@ def test_smoke_leaderboard_writes_every_row_with_its_statistics(tmp_path):
     # constant among its candidates) is at or above it and at most the upper reference
     assert by["validation constant"]["normalised_score_iqm"] == 0.0
     assert 0.0 <= by["hindsight constant"]["normalised_score_iqm"] <= 1.0 + 1e-12
-    assert by["MPC"]["n_episodes"] == 1 and by["MPC"]["n_seeds"] == 1
-    assert by["MPC"]["normalised_score_iqm"] <= 1.0 + 1e-12
+    # the planner is the upper reference on every episode, never below the hindsight constant
+    planner = by["planner"]
+    assert planner["n_episodes"] == 2 and planner["n_seeds"] == 1 and tier["planner_episodes"] == 2
+    assert np.all(np.array(planner["episode_returns"][0]) >= np.array(by["hindsight constant"]["episode_returns"][0]))
+    assert planner["normalised_score_iqm"] <= 1.0 + 1e-12
     ppo = by["PPO (trained)"]
     assert ppo["n_seeds"] == 2 and ppo["n_episodes"] == 2 and ppo["training_seeds"] == [0, 1000]
     assert "seed_ci_low" in ppo and ppo["poi_ci_low"] is not None
@@ -98,7 +101,7 @@ def test_stored_references_reproduce_the_computed_rows_and_refuse_a_stale_store(
     computed = leaderboard.run_tier("transient", s, [], out_dir=tmp_path, progress=False,
                                     contextual_dir=tmp_path, save_references_to=tmp_path / "refs")
     refs = load_references("transient", tmp_path / "refs")
-    assert refs.seeds == (300000, 300001) and refs.mpc_episodes == 1
+    assert refs.seeds == (300000, 300001) and len(refs.planner.returns) == 2
     again = leaderboard.run_tier("transient", s, [], out_dir=tmp_path, progress=False,
                                  contextual_dir=tmp_path, stored=refs)
     assert again["references"].startswith("stored") and computed["references"] == "computed in this run"
@@ -134,7 +137,7 @@ def test_a_deterministic_tier_runs_one_episode_and_names_policies_trained_elsewh
     out = tmp_path / "lb" / "results.json"
     leaderboard.main(["--smoke", "--tier", "paper", "--out", str(out), "--model", str(d)])
     tier = json.loads(out.read_text())["tiers"]["paper"]
-    assert tier["deterministic"] and tier["episodes"] == 1 and tier["mpc_episodes"] == 1
+    assert tier["deterministic"] and tier["episodes"] == 1 and tier["planner_episodes"] == 1
     assert "same episode" in tier["deterministic_note"]
     assert not any("test episodes" in x for x in tier["protocol_deviations"]), tier["protocol_deviations"]
     rows = tier["policies"]
@@ -149,11 +152,11 @@ def test_a_deterministic_tier_runs_one_episode_and_names_policies_trained_elsewh
 
 def test_the_after_training_board_on_a_deterministic_tier_keeps_the_stored_references(tmp_path):
     """train.py --tier paper --eval-episodes 20: the board runs the one paper episode with the
-    committed references (MPC included), not 20 copies with the hindsight recomputed."""
+    committed references (the planner included), not 20 copies with the hindsight recomputed."""
     from agents.training.after_training import evaluate_run
     _untrained_run(tmp_path, 0, tier="paper")
     board = evaluate_run(tmp_path, episodes=20, tier="paper", pretrained_dir=tmp_path / "no_shipped")
-    assert board["episodes"] == 1 and board["mpc_episodes"] == 1 and board["references"].startswith("stored")
+    assert board["episodes"] == 1 and board["planner_episodes"] == 1 and board["references"].startswith("stored")
     assert not any("episodes" in x for x in board["protocol_deviations"]), board["protocol_deviations"]
     assert "short demo on 1 of those episodes" in (tmp_path / "leaderboard.md").read_text()
 
@@ -175,7 +178,7 @@ def test_only_a_run_of_trained_models_overwrites_the_committed_leaderboard(tmp_p
 
 
 def test_protocol_sized_is_decided_per_tier_once():
-    """A run is protocol-sized on a tier when it runs the protocol's test and MPC episodes
+    """A run is protocol-sized on a tier when it runs the protocol's test episodes and planner
     there: on the deterministic paper tier any --episodes is its one episode; on a random tier
     fewer (or more) episodes are not; a smoke run never is."""
     import dataclasses
@@ -186,8 +189,8 @@ def test_protocol_sized_is_decided_per_tier_once():
     assert fewer.protocol_sized("paper") and not fewer.protocol_sized("transient")
     more = dataclasses.replace(FULL, episodes=2 * P.TEST_EPISODES)
     assert more.protocol_sized("paper") and not more.protocol_sized("stationary")
-    assert not dataclasses.replace(FULL, mpc_episodes=P.MPC_EPISODES - 1).protocol_sized("field")
-    assert not dataclasses.replace(FULL, mpc_episodes=0).protocol_sized("paper")     # the paper tier's MPC skipped
+    assert not dataclasses.replace(FULL, planner=None).protocol_sized("field")
+    assert not dataclasses.replace(FULL, planner=None).protocol_sized("paper")     # the paper tier's planner skipped
     assert not any(SMOKE.protocol_sized(t) for t in ("paper", "transient"))
 
 

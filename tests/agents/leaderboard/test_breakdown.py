@@ -26,17 +26,18 @@ def test_features_are_the_scenarios_the_env_draws():
     env.close()
 
 
-def _results(n: int, learned: np.ndarray, mpc_m: int = 2, tier: str = "transient") -> dict:
+def _results(n: int, learned: np.ndarray, planner: bool = True, tier: str = "transient") -> dict:
     r0 = -np.linspace(100.0, 50.0, n)
     hindsight = r0 + 10.0
-    mpc = hindsight[:mpc_m] + 5.0
+    gain = np.where(np.arange(n) < 2, 5.0, 0.0)              # the planner gains 5 on the first 2 episodes
     rows = {"validation constant (1000 N)": {"episode_returns": [r0.tolist()]},
             "hindsight constant (50 N grid)": {"episode_returns": [hindsight.tolist()]},
-            f"MPC (true simulator, first {mpc_m} episodes)": {"episode_returns": [mpc.tolist()]},
             "contextual constant": {"episode_returns": [(r0 + 5.0).tolist()]},
             "SAC (2 seeds)": {"episode_returns": learned.tolist()}}
-    return {"tiers": {tier: {"policies": rows, "mpc_episodes": mpc_m, "episode_steps": 150,
-                                    "seeds": [TEST.start, TEST.start + n - 1]}}}
+    if planner:
+        rows["planner (true simulator, the episode's future)"] = {"episode_returns": [(hindsight + gain).tolist()]}
+    return {"tiers": {tier: {"policies": rows, "planner_episodes": n if planner else 0, "episode_steps": 150,
+                             "seeds": [TEST.start, TEST.start + n - 1]}}}
 
 
 def test_scores_follow_the_leaderboard_formula():
@@ -44,7 +45,7 @@ def test_scores_follow_the_leaderboard_formula():
     r0 = -np.linspace(100.0, 50.0, n)
     learned = np.array([r0 + 3.0, r0 + 6.0])
     r0_, r1, scores = sb.episode_scores(_results(n, learned)["tiers"]["transient"])
-    # upper reference: MPC (hindsight + 5) on the first 2 episodes, the hindsight (r0 + 10) after
+    # upper reference: the planner, hindsight (r0 + 10) + 5 on the first 2 episodes, the hindsight after
     np.testing.assert_allclose(r1 - r0_, [15, 15, 10, 10, 10, 10])
     np.testing.assert_allclose(scores["SAC (2 seeds)"][1], 6.0 / np.array([15, 15, 10, 10, 10, 10]))
     np.testing.assert_allclose(scores["contextual constant"][0], 5.0 / np.array([15, 15, 10, 10, 10, 10]))
@@ -56,7 +57,7 @@ def test_a_planted_dependence_on_a_feature_is_ranked_first(tmp_path):
     clearance = sb.episode_features("transient", seeds, 150)["clearance (um)"]
     r0 = -np.linspace(100.0, 50.0, n)
     learned = np.array([r0 + clearance, r0 + clearance])       # score rises with clearance
-    b = sb.breakdown(_results(n, learned, mpc_m=0), "transient", "SAC", data_dir=tmp_path)   # no stored refs
+    b = sb.breakdown(_results(n, learned, planner=False), "transient", "SAC", data_dir=tmp_path)   # no stored refs
     top = max(b["features"], key=lambda r: abs(r["spearman_rho"]))
     assert top["feature"] == "clearance (um)"
     assert top["spearman_rho"] == pytest.approx(1.0, abs=1e-12)
@@ -75,8 +76,8 @@ def test_features_equal_on_every_episode_share_one_row(tmp_path):
     n = 12
     learned = np.array([-np.linspace(100.0, 50.0, n) + np.arange(n)])
     speeds = ["start speed (rpm)", "end speed (rpm)", "lowest speed (rpm)", "highest speed (rpm)"]
-    st = sb.breakdown(_results(n, learned, mpc_m=0, tier="stationary"), "stationary", "SAC", data_dir=tmp_path)
+    st = sb.breakdown(_results(n, learned, planner=False, tier="stationary"), "stationary", "SAC", data_dir=tmp_path)
     names = [r["feature"] for r in st["features"]]
     assert " = ".join(speeds) in names and not set(speeds) & set(names)
-    tr = sb.breakdown(_results(n, learned, mpc_m=0), "transient", "SAC", data_dir=tmp_path)
+    tr = sb.breakdown(_results(n, learned, planner=False), "transient", "SAC", data_dir=tmp_path)
     assert {"start speed (rpm)", "end speed (rpm)"} <= {r["feature"] for r in tr["features"]}

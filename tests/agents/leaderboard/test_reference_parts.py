@@ -1,53 +1,69 @@
-"""The stored test references built in parts equal the one-go computation, episode by episode."""
+"""The stored test references built in parts (sweep parts + the planner's episodes) equal the
+one-go computation, episode by episode."""
 
 import json
 
+import numpy as np
 import pytest
 
 from agents import protocol as P
 from agents.leaderboard import reference_parts as RP
 from agents.evaluation.episodes import sweep_row
 from agents.leaderboard.settings import FULL, SMOKE
-from agents.references.store import load_choice
-from agents.references.validation import hindsight_reference, run_mpc
-from agents.references.store import load_references, result_to_json
+from agents.policies.planner import plan_episode
+from agents.references import planner_runs
+from agents.references.store import (ValidationChoice, load_choice, load_references, result_to_json, save_choice,
+                                     stored_hindsight)
+from agents.references.validation import hindsight_reference
 
 
-def test_the_parts_cover_the_test_episodes_and_the_mpc_subset_once(tmp_path):
+def test_the_parts_cover_the_test_episodes_once(tmp_path):
     parts = RP.plan(FULL)
     sweep = [s for k, f, n in parts if k == "sweep" for s in range(f, f + n)]
-    mpc = [s for k, f, n in parts if k == "mpc" for s in range(f, f + n)]
-    assert sweep == list(P.held_out_seeds(P.TEST_EPISODES))
-    assert mpc == list(P.held_out_seeds(P.TEST_EPISODES))[:P.MPC_EPISODES]
-    # the deterministic paper tier: one episode of each kind, also where no settings are given
-    one = [("sweep", P.TEST.start, 1), ("mpc", P.TEST.start, 1)]
+    assert sweep == list(P.held_out_seeds(P.TEST_EPISODES)) and {k for k, _, _ in parts} == {"sweep"}
+    # the deterministic paper tier: one episode, also where no settings are given
+    one = [("sweep", P.TEST.start, 1)]
     assert RP.plan(FULL.for_tier("paper")) == one
     assert RP.missing("paper", data_dir=tmp_path) == one and len(RP.missing("transient", data_dir=tmp_path)) == len(parts)
 
 
-def test_parts_merge_to_the_one_go_references_and_a_missing_or_foreign_part_is_refused(tmp_path, monkeypatch):
+def test_parts_and_plans_merge_to_the_one_go_references_and_a_missing_or_foreign_part_is_refused(tmp_path, monkeypatch):
     tier = "transient"
     monkeypatch.setattr(RP, "SWEEP_PART_EPISODES", 1)         # two sweep parts of one episode each
+    store = tmp_path / "constants.json"                       # a validation constant on the smoke grid
+    save_choice(ValidationChoice(tier, 1150.0, (50_000, 50_001, 50_002), 850.0, (300.0, 1150.0, 2000.0),
+                                 (-3.0, -1.0, -2.0), SMOKE.episode_steps), store)
     plan = RP.plan(SMOKE)
-    assert [p[0] for p in plan] == ["sweep", "sweep", "mpc"]
-    for part in plan[:2]:
-        RP.compute_part(tier, *part, s=SMOKE, data_dir=tmp_path, processes=1)
+    assert plan == [("sweep", P.TEST.start, 1), ("sweep", P.TEST.start + 1, 1)]
+    RP.compute_part(tier, *plan[0], s=SMOKE, store=store, data_dir=tmp_path)
     with pytest.raises(FileNotFoundError, match="1 parts of tier transient are missing"):
-        RP.merge(tier, SMOKE, tmp_path)
-    RP.compute_part(tier, *plan[2], s=SMOKE, data_dir=tmp_path, processes=1)
-    RP.merge(tier, SMOKE, tmp_path)
+        RP.merge(tier, SMOKE, tmp_path, store)
+    RP.compute_part(tier, *plan[1], s=SMOKE, store=store, data_dir=tmp_path)
+    with pytest.raises(ValueError, match="2 test episode.*not planned.*planner_runs --tier transient"):
+        RP.merge(tier, SMOKE, tmp_path, store)                      # the planner's episodes are missing
+    seeds = P.held_out_seeds(SMOKE.episodes)
+    written = planner_runs.run(tier, list(seeds), SMOKE.planner, SMOKE.episode_steps, data_dir=tmp_path)
+    assert len(written) == 2
+    RP.merge(tier, SMOKE, tmp_path, store)
     refs = load_references(tier, tmp_path)
 
-    choice = load_choice(tier)
-    seeds = P.held_out_seeds(SMOKE.episodes)
+    choice = load_choice(tier, store)
     hindsight, sweep = hindsight_reference(tier, SMOKE.episodes, seeds.start, SMOKE.episode_steps,
                                            SMOKE.hindsight_grid_step_n, extra_n=(choice.preload_n,))
-    mpc, _ = run_mpc(tier, seeds[:SMOKE.mpc_episodes], SMOKE.episode_steps, SMOKE.mpc)
     constant = sweep_row(sweep, choice.preload_n)
     assert refs.seeds == tuple(seeds) and refs.validation_preload_n == choice.preload_n
-    for got, want in ((refs.validation_constant, constant), (refs.hindsight, hindsight), (refs.mpc, mpc)):
+    for got, want in ((refs.validation_constant, constant), (refs.hindsight, hindsight)):
         assert result_to_json(got) == result_to_json(want)      # every stored metric, bit for bit
-    assert refs.mpc_wall_s_per_episode > 0
+    # the planner started from the stored sweep, and planning from scratch gives the same bits
+    for k, seed in enumerate(seeds):
+        stored = json.loads(planner_runs.episode_path(tier, seed, tmp_path).read_text())
+        assert stored["hindsight_from"] == "stored"
+        assert stored_hindsight(tier, seed, SMOKE.hindsight_grid_step_n, SMOKE.episode_steps, tmp_path) == (
+            stored["hindsight_preload_n"], hindsight.returns[k])
+        fresh = plan_episode(tier, seed, SMOKE.episode_steps, SMOKE.planner)
+        assert fresh.hindsight_from == "sweep" and fresh.return_ == refs.planner.returns[k]
+        assert np.array_equal(fresh.plan_n, stored["plan_n"])
+    assert np.all(refs.planner.returns >= refs.hindsight.returns) and refs.planner_wall_s_per_episode > 0
 
     part = tmp_path / "test_references_transient_parts" / f"sweep_{seeds.start}_1.json"
     good = json.loads(part.read_text())
@@ -58,14 +74,22 @@ def test_parts_merge_to_the_one_go_references_and_a_missing_or_foreign_part_is_r
         change(d)
         part.write_text(json.dumps(d))
         with pytest.raises(ValueError, match=problem):
-            RP.merge(tier, SMOKE, tmp_path)
+            RP.merge(tier, SMOKE, tmp_path, store)
+    part.write_text(json.dumps(good))
+    # a plan whose stored return the replay does not repeat is refused
+    path = planner_runs.episode_path(tier, seeds.start, tmp_path)
+    d = json.loads(path.read_text())
+    d["return"] = float(np.nextafter(d["return"], np.inf))
+    path.write_text(json.dumps(d))
+    with pytest.raises(RuntimeError, match=f"seed {seeds.start}: its plan replayed returns"):
+        RP.merge(tier, SMOKE, tmp_path, store)
+    # without the planner: the board's hindsight-only store
+    RP.merge(tier, SMOKE, tmp_path, store, with_planner=False)
+    assert load_references(tier, tmp_path).planner is None
 
 
 def test_a_part_made_by_another_kernel_counts_as_missing(tmp_path):
-    import json
-
     from agents.leaderboard import reference_parts as rp
-    from agents.leaderboard.settings import SMOKE
     todo = rp.missing("transient", SMOKE, tmp_path)
     kind, first, n = todo[0]
     path = rp._path("transient", kind, first, n, tmp_path)

@@ -49,11 +49,16 @@ def test_runs_by_episodes_are_scored_against_the_same_episode_references():
     np.testing.assert_array_equal(s[0], np.zeros(4))
 
 
-def test_the_upper_reference_takes_the_mpc_only_where_it_ran_and_is_better():
+def test_the_upper_reference_is_the_planner_and_a_planner_below_the_hindsight_constant_is_refused():
     hind = np.array([-40.0, -50.0, -30.0])
-    mpc = np.array([-35.0, -55.0, np.nan])
-    np.testing.assert_array_equal(scoring.upper_reference(hind, mpc), [-35.0, -50.0, -30.0])
-    np.testing.assert_array_equal(scoring.upper_reference(hind), hind)
+    planner = np.array([-35.0, -50.0, -29.0])
+    np.testing.assert_array_equal(scoring.upper_reference(hind, planner), planner)
+    np.testing.assert_array_equal(scoring.upper_reference(hind), hind)          # no planner: the hindsight alone
+    for broken in (np.array([-35.0, np.nextafter(-50.0, -np.inf), -29.0]), np.array([-35.0, np.nan, -29.0])):
+        with pytest.raises(ValueError, match="below the hindsight constant's"):
+            scoring.upper_reference(hind, broken)
+    with pytest.raises(ValueError, match="every episode"):
+        scoring.upper_reference(hind, planner[:2])
 
 
 def _numpy_iqm(x: np.ndarray) -> float:

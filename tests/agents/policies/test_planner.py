@@ -35,3 +35,21 @@ def test_the_plan_is_never_below_the_hindsight_constant_and_replays_bit_for_bit(
 def test_planner_settings_name_a_bad_interval():
     with pytest.raises(ValueError, match="replan_every"):
         PlannerSettings(replan_every=0)
+
+
+def test_a_stored_hindsight_gives_the_same_plan_and_a_stale_one_is_refused():
+    """Starting from a stored hindsight constant (the sweep skipped) plans the same bits; a stored
+    return the episode does not reproduce (far above it here, so no candidate beats it and the
+    plan stays the constant) is named stale instead of silently bounding the search."""
+    tier, seed = "transient", 300016
+    own = plan_episode(tier, seed, episode_steps=STEPS, settings=SMALL)
+    given = plan_episode(tier, seed, episode_steps=STEPS, settings=SMALL,
+                         hindsight=(own.hindsight_preload_n, own.hindsight_return))
+    assert (own.hindsight_from, given.hindsight_from) == ("sweep", "stored")
+    assert given.return_ == own.return_ and np.array_equal(given.plan_n, own.plan_n)
+    assert given.env_steps < own.env_steps
+    with pytest.raises(RuntimeError, match="stored sweep is stale"):
+        plan_episode(tier, seed, episode_steps=STEPS, settings=SMALL,
+                     hindsight=(own.hindsight_preload_n, own.hindsight_return + 1e6))
+    with pytest.raises(ValueError, match="outside the actuator's range"):
+        plan_episode(tier, seed, episode_steps=STEPS, settings=SMALL, hindsight=(2500.0, 0.0))
