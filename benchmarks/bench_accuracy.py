@@ -24,15 +24,14 @@ check 3 (two reward maps, ~10 min of the 12).
 
 from __future__ import annotations
 
-import sys
 import time
-from pathlib import Path
 
 import numpy as np
 
-sys.path.insert(0, str(Path(__file__).resolve().parent))
-
-import bench_cli  # noqa: E402
+try:
+    from benchmarks import bench_cli            # imported from the benchmarks package (the tests)
+except ImportError:
+    import bench_cli                            # run as a script: its directory is on sys.path
 
 from bearing_gym.analysis.sweeps.points import SweepSettings, continuation_chain  # noqa: E402
 from bearing_gym.analysis.sweeps.results import critical_preload  # noqa: E402

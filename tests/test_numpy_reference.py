@@ -7,8 +7,6 @@ compared with the moments divided by r_p (N at the groove radius), relative to t
 component; trajectories per DOF, relative to that DOF's largest excursion.
 """
 
-import sys
-from pathlib import Path
 
 import numpy as np
 import pytest
@@ -20,8 +18,7 @@ from bearing_gym.physics.bearing import bearing_force
 from bearing_gym.physics.layout import pack_params
 from bearing_gym.physics.rotor import N_REC, R_F, R_V, R_X, S_CAGE_SPEED, integrate
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[1] / "benchmarks"))
-import numpy_reference as ref  # noqa: E402
+from benchmarks import numpy_reference as ref
 
 PERTURBATION = np.array([2e-6, -1e-6, 1e-6, 1e-5, -2e-5])
 

@@ -145,7 +145,9 @@ class BearingPreloadEnv(TaskParts, gym.Env):
       BLAS/LAPACK (``bearing_gym.physics.portable_math``; docs/model.md). The last bits of every
       trajectory changed once (a quasi-periodic episode's return by a few per cent), and the
       ``field`` tier's probe-offset drift draws its normals by Box-Muller from the generator's
-      uniforms instead of NumPy's ziggurat.
+      uniforms instead of NumPy's ziggurat. A ``control_dt_s`` that is not a whole number of
+      actuator updates, or an actuator ``update_interval_s`` that is not a whole number of
+      integrator steps, is refused with the nearest valid values (it was rounded silently).
     * v0 (redefined in place before the first release): the integrator step of the env is
       25 us with a 1e-10 m Newmark tolerance (was 10 us, 1e-13 m: 3.3x less kernel time, the
       accuracy bounds of ``benchmarks/bench_accuracy.py`` hold); the reward is about vibration

@@ -23,7 +23,7 @@ from .features import F_QPI, N_FEATURES
 from bearing_gym.params import BearingParams, RaceWaviness, Waviness, default_params
 from bearing_gym.physics import Simulator
 from bearing_gym.physics.ball import N_BALL_OUT
-from bearing_gym.physics.layout import I_CTY, I_CX, N_OP, N_PRM, O_OMEGA, O_PX, O_PY, O_PZ
+from bearing_gym.physics.layout import I_CTY, I_CX, N_OP, N_PRM, O_DAMPING, O_OMEGA, O_PX, O_PY, O_PZ
 from bearing_gym.physics.portable_math import cos, pow, sincos
 from bearing_gym.physics.rotor import N_REC, N_SCAL
 
@@ -212,7 +212,8 @@ class PreloadBatch:
         where the motion is then period-1 (index <= QPI_THRESHOLD) a settling aid follows: the
         damping of the axial and tilting DOFs (``SETTLE_AID_DOFS``) is raised
         ``SETTLE_DAMPING_BOOST``-fold and lowered smoothly (geometrically, every actuator update)
-        back to nominal over ``SETTLE_AID_INTERVALS``; ``SETTLE_TAIL_INTERVALS`` at nominal
+        back to nominal over ``SETTLE_AID_INTERVALS`` (factors in the operating point,
+        ``op[:, O_DAMPING + dof]``: the spindle's constants ``prm`` are never written); ``SETTLE_TAIL_INTERVALS`` at nominal
         damping close it. The ringing that outlasts the kick lives in the axial/tilting motion
         (it decays at only ~3 /s at 800-1000 N, 20,000 rpm); the radial DOFs are left at nominal
         damping because the synchronous unbalance orbit is mostly radial, and extra radial
@@ -277,15 +278,13 @@ class PreloadBatch:
                 break
             run(ringing, 1, self.n_sub)
         periodic = todo[(self.status[todo] == 0) & (self.feats[todo, F_QPI] <= QPI_THRESHOLD)]
-        if len(periodic):
-            cols = np.ix_(periodic, [I_CX + d for d in SETTLE_AID_DOFS])
-            nominal = self.prm[cols].copy()
+        if len(periodic):                  # the aid: factors on the damping in the operating point
+            cols = np.ix_(periodic, [O_DAMPING + d for d in SETTLE_AID_DOFS])
             updates = SETTLE_AID_INTERVALS * self.n_sub
             for k in range(updates):
-                boost = pow(SETTLE_DAMPING_BOOST, 1.0 - (k + 1) / updates)
-                self.prm[cols] = nominal * boost
+                self.op[cols] = pow(SETTLE_DAMPING_BOOST, 1.0 - (k + 1) / updates)
                 run(periodic, 1, 1)
-            self.prm[cols] = nominal
+            self.op[cols] = 1.0
         run(todo, SETTLE_TAIL_INTERVALS, self.n_sub)
         self.sched[todo] = real_sched
 

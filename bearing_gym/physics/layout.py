@@ -6,8 +6,9 @@ The frozen dataclasses of :mod:`bearing_gym.params` are converted once, here
 * ``prm``: one float64 vector of the spindle's constants, indexed by the ``I_*`` constants below
   (numba treats module-level integers as compile-time constants);
 * ``op``: the operating point, what changes while the spindle runs - shaft speed, radial loads,
-  axial preload - indexed by the ``O_*`` constants (apart from ``prm``, so nothing that runs the
-  spindle writes into its constants);
+  axial preload, and factors on the damping (1 in operation; the env's settling aid raises them)
+  - indexed by the ``O_*`` constants (apart from ``prm``, so nothing that runs the spindle writes
+  into its constants);
 * ``race_wav``: (n_terms, 5) rows ``[race, kind, order, amplitude_m, phase_rad]`` with race 0 =
   inner, 1 = outer and kind 0 = radial (p), 1 = axial (q) (eqs 9-12);
 * ``ball_wav``: (n_terms, 2) rows ``[order, amplitude_m]`` and ``ball_phase`` (N, n_terms)
@@ -76,7 +77,9 @@ O_OMEGA = 0       # shaft speed omega (rad/s)
 O_PX = 1          # radial load P_x (N)
 O_PY = 2          # radial load P_y (N)
 O_PZ = 3          # axial preload P (N), eq 35
-N_OP = 4
+O_DAMPING = 4     # 4..8: factors on the rotor's damping (prm I_CX..I_CTY) of x, y, z, theta_x, theta_y;
+                  # 1 while the spindle runs, raised by the env's settling aid (envs.core.settle)
+N_OP = 9
 
 CONTROL_OUTER = 0
 CONTROL_INNER = 1
@@ -177,4 +180,5 @@ def pack_params(p: "BearingParams", damping_coefficients: np.ndarray | None = No
     op[O_PX] = ld.radial_load_x_n
     op[O_PY] = ld.radial_load_y_n
     op[O_PZ] = ld.axial_preload_n
+    op[O_DAMPING:O_DAMPING + 5] = 1.0
     return PackedParams(prm, race_wav, ball_wav, ball_phase, ball_size, op)

@@ -41,8 +41,8 @@ from numba import njit
 from .ball import B_QI, B_VR_PREV, B_VR_PREV2, B_VZ_PREV, B_VZ_PREV2, B_WB
 from .bearing import N_GEO, ball_geometry, bearing_force_on, cage_speed
 from .layout import (I_CTX, I_CTY, I_CX, I_CY, I_CZ, I_DIVLIM, I_DT, I_ECC, I_IR, I_IZ, I_MASS,
-                     I_NB, I_NBETA, I_NGAMMA, I_NM_MAXIT, I_NM_TOL, I_RP, O_OMEGA, O_PX,
-                     O_PY, O_PZ)
+                     I_NB, I_NBETA, I_NGAMMA, I_NM_MAXIT, I_NM_TOL, I_RP, O_DAMPING, O_OMEGA,
+                     O_PX, O_PY, O_PZ)
 from .portable_math import pow, sincos
 from .status import ST_DIVERGED, ST_NEWMARK_NOT_CONVERGED, ST_OK  # noqa: F401 - ST_OK re-exported
 
@@ -81,25 +81,30 @@ def solve_acceleration(F, prm, op, cos_shaft, sin_shaft, vstar, a_out):
     """Solve eq 35 (with damping) for the acceleration at velocity v = v* + gamma dt a.
 
     (M + gamma dt (C + G)) a = F + P + unbalance - (C + G) v*, with the unbalance force
-    m e omega^2 (cos theta_s, sin theta_s) at the shaft angle theta_s; speed and loads from the
-    operating point ``op`` (``O_*``).
+    m e omega^2 (cos theta_s, sin theta_s) at the shaft angle theta_s; speed, loads and the
+    damping's factors from the operating point ``op`` (``O_*``).
     """
     m = prm[I_MASS]
     ir = prm[I_IR]
     omega = op[O_OMEGA]
     gdt = prm[I_NGAMMA] * prm[I_DT]
     unb = m * prm[I_ECC] * omega * omega
-    a_out[0] = (F[0] + op[O_PX] + unb * cos_shaft - prm[I_CX] * vstar[0]) / (m + gdt * prm[I_CX])
-    a_out[1] = (F[1] + op[O_PY] + unb * sin_shaft - prm[I_CY] * vstar[1]) / (m + gdt * prm[I_CY])
-    a_out[2] = (F[2] + op[O_PZ] - prm[I_CZ] * vstar[2]) / (m + gdt * prm[I_CZ])
+    cx = prm[I_CX] * op[O_DAMPING]          # the damping in effect: the nominal times op's factor
+    cy = prm[I_CY] * op[O_DAMPING + 1]
+    cz = prm[I_CZ] * op[O_DAMPING + 2]
+    ctx = prm[I_CTX] * op[O_DAMPING + 3]
+    cty = prm[I_CTY] * op[O_DAMPING + 4]
+    a_out[0] = (F[0] + op[O_PX] + unb * cos_shaft - cx * vstar[0]) / (m + gdt * cx)
+    a_out[1] = (F[1] + op[O_PY] + unb * sin_shaft - cy * vstar[1]) / (m + gdt * cy)
+    a_out[2] = (F[2] + op[O_PZ] - cz * vstar[2]) / (m + gdt * cz)
     g = prm[I_IZ] * omega
     # [[ir + gdt ctx, gdt g], [-gdt g, ir + gdt cty]] (atx, aty) = (rx, ry)
-    rx = F[3] - prm[I_CTX] * vstar[3] - g * vstar[4]
-    ry = F[4] - prm[I_CTY] * vstar[4] + g * vstar[3]
-    a11 = ir + gdt * prm[I_CTX]
+    rx = F[3] - ctx * vstar[3] - g * vstar[4]
+    ry = F[4] - cty * vstar[4] + g * vstar[3]
+    a11 = ir + gdt * ctx
     a12 = gdt * g
     a21 = -gdt * g
-    a22 = ir + gdt * prm[I_CTY]
+    a22 = ir + gdt * cty
     det = a11 * a22 - a12 * a21
     a_out[3] = (a22 * rx - a12 * ry) / det
     a_out[4] = (-a21 * rx + a11 * ry) / det

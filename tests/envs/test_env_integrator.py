@@ -2,17 +2,13 @@
 the library's tolerance: the bounds of issue 15's target 3, computed by
 ``benchmarks/bench_accuracy.py`` (checks 1 and 2; check 3, the reward map, is its full run)."""
 
-import sys
-from pathlib import Path
 
 import pytest
 
-sys.path.insert(0, str(Path(__file__).resolve().parents[2] / "benchmarks"))
+from benchmarks import bench_accuracy
 
-import bench_accuracy  # noqa: E402
-
-from bearing_gym.task import ENV_DT_S, ENV_NEWMARK_TOL_M  # noqa: E402
-from bearing_gym.envs import BearingPreloadEnv, env_params  # noqa: E402
+from bearing_gym.task import ENV_DT_S, ENV_NEWMARK_TOL_M
+from bearing_gym.envs import BearingPreloadEnv, env_params
 
 
 def test_the_env_runs_its_integrator_and_env_params_keeps_it():
