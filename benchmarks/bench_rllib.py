@@ -5,7 +5,7 @@
     python benchmarks/bench_rllib.py --quick    # same keys, a 100-step batch, one round
 
 Needs the ``rllib`` extra (``pip install -e ".[rllib]"``). One local Ray session holds both
-configurations: the README's PPO config ("Training past one machine": transient tier, 2 envs
+configurations: docs/scaling.md's PPO config ("Training past one machine": transient tier, 2 envs
 per env runner) with 1 and with 2 env runners, each with a ``--batch``-step train batch (64-step
 minibatches, one epoch, so that sampling dominates). After one untimed ``algo.train()`` each
 (the workers load the numba kernels), every round times, for each configuration in turn:
@@ -59,7 +59,7 @@ def make_env(cfg):
 
 
 def build(runners: int, batch: int):
-    """The README's PPO config with ``runners`` env runners and a small batch."""
+    """docs/scaling.md's PPO config with ``runners`` env runners and a small batch."""
     from ray.rllib.algorithms.ppo import PPOConfig
 
     config = (PPOConfig()

@@ -1,7 +1,7 @@
-"""The README's RLlib snippet ("Training past one machine") runs, as written, on a local Ray.
+"""docs/scaling.md's RLlib snippet ("Training past one machine") runs as written on a local Ray.
 
-The snippet is read from README.md and executed with only its sizes made small (``SMALL``: 2 env
-runners, a 400-step batch, one epoch), so the test and the README make the same calls; its loop
+The snippet is read from docs/scaling.md and executed with only its sizes made small (``SMALL``: 2
+env runners, a 400-step batch, one epoch), so the test and the page make the same calls; its loop
 of ``algo.train()`` is run here for ``ITERATIONS`` iterations. The slow test needs the ``rllib``
 extra (``pip install -e ".[rllib]"``: Ray's RLlib, pinned, with the gymnasium it pins) and
 BEARING_GYM_SLOW=1; 1.5-2 min on a loaded 2-core machine. The fast test checks, without
@@ -26,8 +26,8 @@ import bearing_gym  # noqa: F401 - registers BearingPreload-v0
 from bearing_gym.task import EPISODE_STEPS
 from bearing_gym.envs.reward import VibrationFirstReward
 
-README = Path(__file__).resolve().parents[2] / "README.md"
-SECTION = "### Training past one machine"
+PAGE = Path(__file__).resolve().parents[2] / "docs" / "scaling.md"
+SECTION = "## Training past one machine"
 ENV_ID = "BearingPreload-v0"
 
 # The snippet's sizes for a test (keyword -> value); its other arguments are run as written.
@@ -37,12 +37,12 @@ ITERATIONS = 3
 LOOP = "for _ in range(100):\n    result = algo.train()"
 
 
-def readme_snippet() -> str:
-    """The first ``python`` code block of the README's section on training past one machine."""
-    text = README.read_text(encoding="utf-8")
-    assert SECTION in text, f"README.md has no section {SECTION!r}"
+def page_snippet() -> str:
+    """The first ``python`` code block of docs/scaling.md's section on training past one machine."""
+    text = PAGE.read_text(encoding="utf-8")
+    assert SECTION in text, f"docs/scaling.md has no section {SECTION!r}"
     m = re.search(r"```python\n(.*?)```", text.split(SECTION, 1)[1], re.S)
-    assert m, f"no python block in README.md {SECTION!r}"
+    assert m, f"no python block in docs/scaling.md {SECTION!r}"
     return m.group(1)
 
 
@@ -71,10 +71,10 @@ def _calls(module: ast.Module) -> dict[str, ast.Call]:
     return out
 
 
-def test_readme_snippet_has_the_shape_the_slow_test_runs():
+def test_rllib_snippet_has_the_shape_the_slow_test_runs():
     """Without RLlib: the snippet registers and configures the registered env id on the
     transient tier, and has every size that the slow test makes small."""
-    calls = _calls(small_setup(readme_snippet()))
+    calls = _calls(small_setup(page_snippet()))
     for name in ("register_env", "PPOConfig", "environment", "env_runners", "training", "build_algo"):
         assert name in calls, name
     assert ast.literal_eval(calls["register_env"].args[0]) == ENV_ID
@@ -88,7 +88,7 @@ def test_readme_snippet_has_the_shape_the_slow_test_runs():
 
 
 @pytest.mark.slow
-def test_readme_rllib_snippet_trains_ppo_on_two_env_runners():
+def test_rllib_snippet_trains_ppo_on_two_env_runners():
     pytest.importorskip("ray.rllib", reason='RLlib is not installed: pip install -e ".[rllib]"')
     import ray
 
@@ -103,11 +103,11 @@ def test_readme_rllib_snippet_trains_ppo_on_two_env_runners():
             out.append((type(e).__name__, e.tier, limit))
         return out
 
-    code = compile(small_setup(readme_snippet()), f"{README.name} ({SECTION[4:]})", "exec")
+    code = compile(small_setup(page_snippet()), f"docs/{PAGE.name} ({SECTION[3:]})", "exec")
     ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
     try:
         ns: dict = {}
-        exec(code, ns)                                 # the README's statements, small sizes
+        exec(code, ns)                                 # the page's statements, small sizes
         algo = ns["algo"]
         try:
             results = [algo.train() for _ in range(ITERATIONS)]

@@ -49,7 +49,7 @@ def test_equilibrium_table_and_json_with_config_files(tmp_path, capsys):
     text = capsys.readouterr().out
     assert "alpha_i" in text and "stiffness matrix" in text
     eq = json.loads((tmp_path / "eq.json").read_text())
-    assert eq["balls"]["alpha_i_deg"][0] == pytest.approx(33.88, abs=0.01)   # README reference
+    assert eq["balls"]["alpha_i_deg"][0] == pytest.approx(33.88, abs=0.01)   # docs/simulator.md reference
     assert eq["balls"]["q_o_n"][0] == pytest.approx(2099, rel=1e-3)
     assert np.array(eq["stiffness"]["matrix"]).shape == (5, 5)
 
