@@ -189,11 +189,11 @@ def _references(tier: str, s: Settings, choice: ValidationChoice, seeds: range, 
         if refs.hindsight_grid_step_n != s.hindsight_grid_step_n:
             raise ValueError(f"the stored hindsight reference of tier {tier} searched a {refs.hindsight_grid_step_n:g} N "
                              f"grid, these settings a {s.hindsight_grid_step_n:g} N one")
+        if s.planner is None:                    # scored against the hindsight constant alone
+            return dataclasses.replace(refs, planner=None, planner_settings=None, planner_wall_s_per_episode=None)
         if refs.planner is not None and refs.planner_settings != s.planner_settings():
             raise ValueError(f"the stored planner of tier {tier} searched with {refs.planner_settings}, these settings "
                              f"name {s.planner_settings()}")
-        if s.planner is None:
-            refs = dataclasses.replace(refs, planner=None, planner_settings=None, planner_wall_s_per_episode=None)
         return refs
     extra = (choice.preload_n,)
     hindsight, sweep = hindsight_reference(tier, s.episodes, seeds.start, s.episode_steps, s.hindsight_grid_step_n,
@@ -260,6 +260,8 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
     refs = _references(tier, s, choice, seeds, progress, stored)
     if stored is None and save_references_to is not None:
         refs.save(save_references_to)
+    r0 = refs.validation_constant.returns       # the score's 0 and 1 (checked before the policies run)
+    r1 = scoring.upper_reference(refs.hindsight.returns, None if refs.planner is None else refs.planner.returns)
     shape = f"{s.episodes} test episodes of {s.episode_steps} steps"
     live_constant = [ConstantPreload(choice.preload_n)] if stored is not None else []
     policies = live_constant + [contextual, MapOracle()] + [p for g in groups for p in g.policies]
@@ -269,8 +271,6 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
         refs.check_fresh(ran[0].returns, f"python -m agents.leaderboard --tier {tier}")
         ran = ran[1:]
     contextual_res, oracle_res, learned_res = ran[0], ran[1], ran[2:]
-    r0 = refs.validation_constant.returns
-    r1 = scoring.upper_reference(refs.hindsight.returns, None if refs.planner is None else refs.planner.returns)
     reps = dict(bootstrap_reps=s.bootstrap_reps, poi_reps=s.poi_reps)
 
     rows: dict[str, dict] = {}
@@ -352,7 +352,8 @@ def build_parser() -> argparse.ArgumentParser:
     ap.add_argument("--contextual-dir", default=str(DATA_DIR), help="fitted contextual constants")
     ap.add_argument("--stored-references", action="store_true",
                     help="take the validation constant, hindsight and planner rows from agents/data/test_references_<tier>.json "
-                         "(written by a protocol run of this command) instead of computing them: minutes, not an hour")
+                         "(written by a protocol run of this command or joined from parts) instead of computing them: "
+                         "minutes, not the hours the planner costs")
     ap.add_argument("--references-dir", default=str(DATA_DIR), help="where the stored test references are")
     ap.add_argument("--keep-other-tiers", action="store_true",
                     help="keep the tiers of the existing results.json at --out that this run does not compute "

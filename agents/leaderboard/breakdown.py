@@ -62,6 +62,9 @@ def _row(policies: dict[str, Any], name: str) -> tuple[str, dict[str, Any]]:
 def episode_scores(tier_result: dict[str, Any]) -> tuple[np.ndarray, np.ndarray, dict[str, np.ndarray]]:
     """R_0, R_1 and every row's normalised scores (runs x episodes) of one tier of results.json."""
     policies = tier_result["policies"]
+    if "mpc_episodes" in tier_result:
+        raise ValueError("this results.json is from before the planner (its upper reference is the MPC on a subset "
+                         "of the episodes): regenerate it with `python -m agents.leaderboard` to break its scores down")
     r0 = np.asarray(_row(policies, "validation constant")[1]["episode_returns"][0])
     hindsight = np.asarray(_row(policies, "hindsight constant")[1]["episode_returns"][0])
     planner = (np.asarray(_row(policies, "planner")[1]["episode_returns"][0])
@@ -85,7 +88,7 @@ def breakdown(results: dict[str, Any], tier: str, row: str, data_dir: Path = DAT
     try:
         refs = load_references(tier, data_dir).first(len(seeds))
         feats["hindsight best constant: mean applied preload (N)"] = np.asarray(refs.hindsight.mean_preload)
-    except FileNotFoundError:
+    except (FileNotFoundError, ValueError):          # none stored, or a store from before the planner
         pass
     merged: list[tuple[list[str], np.ndarray]] = []   # features equal on every episode share a row
     for f, x in feats.items():

@@ -115,9 +115,10 @@ def evaluate(model_dir: str | Path | list[str | Path] | None, episodes: int = 20
               f"the best constant of a {grid_step_n:g} N grid over {grid[0]:.0f}-{grid[-1]:.0f} N "
               f"({len(grid)} preloads) with hindsight.")
     reference = chosen[0].name if chosen else hindsight.name
-    write_report(results, out, header, reference=reference, first_seed=seed)
+    written = write_report(results, out, header, reference=reference, first_seed=seed)
     if verbose:
         print((out / "evaluation.md").read_text())
+        print(f"wrote {', '.join(p.name for p in written)} in {out.resolve()}", flush=True)
     return results
 
 

@@ -6,6 +6,7 @@ from __future__ import annotations
 
 import csv
 import math
+import textwrap
 from pathlib import Path
 
 import numpy as np
@@ -31,10 +32,11 @@ def paired_difference(a: EvalResult, b: EvalResult) -> tuple[float, float, float
 
 
 def write_report(results: list[EvalResult], out_dir: Path, header: str = "",
-                 reference: str | None = None, first_seed: int | None = None) -> None:
+                 reference: str | None = None, first_seed: int | None = None) -> list[Path]:
     """evaluation.md (table, paired differences to ``reference``), evaluation.csv (one row per
     policy), evaluation_episodes.csv (the return of every policy in every episode, for statistics
-    of your own; with ``first_seed`` the episode's scenario seed) and evaluation_traces.png."""
+    of your own; with ``first_seed`` the episode's scenario seed) and evaluation_traces.png; returns
+    the paths written."""
     out_dir.mkdir(parents=True, exist_ok=True)
     rows = [r.row() for r in results]
     with (out_dir / "evaluation.csv").open("w", newline="") as fh:
@@ -66,10 +68,13 @@ def write_report(results: list[EvalResult], out_dir: Path, header: str = "",
                 m, lo, hi = paired_difference(r, ref)
                 lines.append(f"- {r.name}: {m:+.2f} [{lo:+.2f}, {hi:+.2f}]")
     (out_dir / "evaluation.md").write_text("\n".join(lines) + "\n")
+    written = [out_dir / n for n in ("evaluation.md", "evaluation.csv", "evaluation_episodes.csv")]
     try:
         plot_traces(results, out_dir / "evaluation_traces.png", first_seed)
+        written.append(out_dir / "evaluation_traces.png")
     except Exception as err:  # a figure must never lose the numbers
         print(f"warning: no trace figure ({err})")
+    return written
 
 
 def describe_scenario(sc) -> str:
@@ -94,7 +99,7 @@ def plot_traces(results: list[EvalResult], path: Path | None, first_seed: int | 
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     traced = [r for r in results if r.trace and len(r.trace.get("t", ()))]
-    fig, (a1, a2, a3) = plt.subplots(3, 1, figsize=(8, 8), sharex=True,
+    fig, (a1, a2, a3) = plt.subplots(3, 1, figsize=(11, 8.5), sharex=True, layout="constrained",
                                      gridspec_kw={"height_ratios": [3, 2, 1.4]})
     for r in traced:
         hindsight = bool(r.trace_label)
@@ -105,10 +110,14 @@ def plot_traces(results: list[EvalResult], path: Path | None, first_seed: int | 
         if r.terminated is not None and r.terminated[0]:
             a1.plot(r.trace["t"][-1], r.trace["preload_n"][-1], "x", color="r", ms=8)
     a2.axhline(QPI_THRESHOLD, color="0.5", lw=0.8, ls=":")
-    a2.text(0.0, QPI_THRESHOLD, f" quasi-periodic above {QPI_THRESHOLD}", fontsize=7, color="0.4", va="bottom")
+    # the threshold's label right of the panel, where no trace runs
+    a2.annotate(f"quasi-periodic\nabove {QPI_THRESHOLD}", xy=(1.0, QPI_THRESHOLD),
+                xycoords=("axes fraction", "data"), xytext=(4, 0), textcoords="offset points",
+                fontsize=7, color="0.4", va="center", ha="left", annotation_clip=False)
     a1.set_ylabel("axial preload (N)")
     a2.set_ylabel("quasi-periodicity index (-)")
-    a1.legend(fontsize=7)
+    if traced:                   # outside the panels, beside the top one: it covers no trace
+        a1.legend(fontsize=7, loc="upper left", bbox_to_anchor=(1.01, 1.0), borderaxespad=0.0)
     ref = max(traced, key=lambda r: len(r.trace["t"])) if traced else None
     if ref is not None and "shaft_speed_rpm" in ref.trace:
         a3.plot(ref.trace["t"], ref.trace["shaft_speed_rpm"], color="C0")
@@ -120,9 +129,9 @@ def plot_traces(results: list[EvalResult], path: Path | None, first_seed: int | 
     seed = "" if first_seed is None else f"seed {first_seed}: "
     sc = describe_scenario(ref.scenario) if ref is not None else ""
     ended = any(r.terminated is not None and r.terminated[0] for r in traced)
-    a1.set_title(f"First evaluation scenario ({seed}{sc})\npreload and quasi-periodicity index per policy"
+    fig.suptitle("\n".join(textwrap.wrap(f"First evaluation scenario ({seed}{sc})", 110))
+                 + "\npreload and quasi-periodicity index per policy"
                  + (" (x: the episode terminated early)" if ended else ""), fontsize=9)
-    fig.tight_layout()
     if path is None:
         return fig
     fig.savefig(path, dpi=90)

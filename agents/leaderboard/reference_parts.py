@@ -149,7 +149,14 @@ def merge(tier: str, s: Settings | None = None, data_dir: Path = DATA_DIR, store
         if not np.array_equal(stored_h, hindsight.returns):
             k = int(np.flatnonzero(stored_h != hindsight.returns)[0])
             raise ValueError(f"planner, tier {tier} seed {seeds[k]}: it started from a hindsight return of "
-                             f"{stored_h[k]!r}, the sweep parts hold {hindsight.returns[k]!r}")
+                             f"{stored_h[k]!r}, the sweep parts hold {hindsight.returns[k]!r}: delete "
+                             f"{planner_runs.episode_path(tier, seeds[k], data_dir)} and plan it again "
+                             f"(`python -m agents.references.planner_runs --tier {tier} --next 1`)")
+        below = [k for k, p in enumerate(plans) if not p.return_ >= p.hindsight_return]
+        if below:
+            k = below[0]
+            raise ValueError(f"planner, tier {tier} seed {seeds[k]}: its return {plans[k].return_!r} is below its "
+                             f"hindsight constant's {plans[k].hindsight_return!r}, which it cannot be: plan it again")
         planner = planner_runs.replay(tier, plans, s.episode_steps,
                                       progress=f"{tier}: replaying {len(plans)} plans" if progress else None)
         planner_settings = s.planner_settings()

@@ -110,8 +110,10 @@ def to_markdown(results: dict[str, Any]) -> str:
                   "|---|---|---|---|---|---|---|---|---|---|---|---|---|"]
         for name, r in t["policies"].items():
             above = r.get("above_one_fraction")
-            lines.append(f"| {name} | {r['n_seeds']} | {r['n_episodes']} | {r['normalised_score_iqm']:.3f} "
-                         f"[{r['ci_low']:.3f}, {r['ci_high']:.3f}] | {'-' if above is None else f'{100 * above:.0f} %'} "
+            score = (f"{r['normalised_score_iqm']:.3f} [{r['ci_low']:.3f}, {r['ci_high']:.3f}]" if "role" not in r
+                     else f"1 by definition ({r['normalised_score_iqm']:.3f} with the floor)")
+            lines.append(f"| {name} | {r['n_seeds']} | {r['n_episodes']} | {score} "
+                         f"| {'-' if above is None else f'{100 * above:.0f} %'} "
                          f"| {_poi([r['probability_of_improvement'], r.get('poi_ci_low'), r.get('poi_ci_high')])} "
                          f"| {_poi(r.get('poi_over', {}).get('contextual constant'))} "
                          f"| {r['mean_return']:.2f} | {100 * r['quasi_periodic_fraction']:.1f} % "

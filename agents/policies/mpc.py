@@ -1,4 +1,6 @@
-"""Receding-horizon control with the true simulator as its model: an upper reference.
+"""Receding-horizon control with the true simulator as its model: the short-horizon controller of
+the tier-design study (:mod:`agents.references.tier_gap`; the leaderboard's upper reference is
+the full-horizon planner, :mod:`agents.policies.planner`).
 
 At every ``replan_every``-th control interval the controller copies the env (its full state:
 physics, actuator, scenario schedule, sensor and random generators; ``copy.deepcopy`` of a

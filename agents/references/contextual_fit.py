@@ -20,6 +20,7 @@ from pathlib import Path
 import numpy as np
 
 from bearing_gym.task import EPISODE_STEPS
+from bearing_gym.envs.provenance import kernel_hash
 
 from agents.evaluation.episodes import constant_sweep
 from agents.references.sweep_cli import parse_sweep, sweep_parser
@@ -50,7 +51,7 @@ def fit_contextual(tier: str, episodes: int = CONTEXTUAL_FIT_EPISODES, seed: int
     t0 = time.time()
     first_obs, returns, grid = collect_fit_data(tier, episodes, seed, episode_steps, grid_step_n, progress, **run_kw)
     meta = {"tier": tier, "seeds": [seed, seed + episodes - 1], "episode_steps": episode_steps,
-            "grid_step_n": grid_step_n, "wall_s": time.time() - t0}
+            "grid_step_n": grid_step_n, "wall_s": time.time() - t0, "kernel_hash": kernel_hash()}
     return ContextualConstant.fit(first_obs, returns, grid, squares=squares, meta=meta)
 
 

@@ -11,7 +11,7 @@ chooses on its own (test) episodes. ``python -m agents.references --tier T --epi
 (:mod:`agents.references.validation`) computes an entry and writes it.
 
 **The test references.** The expensive references on the test episodes, stored so that a leaderboard of new policies
-(and the main job's) takes minutes, not the hour the references cost.
+(and the main job's) takes minutes, not the hours the references (the planner above all) cost.
 
 ``agents/data/test_references_<tier>.json`` holds, per test episode (seeds ``TEST.start`` on,
 in order), every metric the leaderboard reports of
@@ -216,7 +216,7 @@ ROWS = ("validation constant", "hindsight", "planner")
 #: the "about" of a stored test-references file (the first paragraph of the docstring of the
 #: module that held them before the two stores became one, so stored files keep their text)
 TEST_REFERENCES_ABOUT = ("The expensive references on the test episodes, stored so that a leaderboard of new policies "
-                         "(and the main job's) takes minutes, not the hour the references cost.")
+                         "(and the main job's) takes minutes, not the hours the references (the planner above all) cost.")
 
 
 def references_path(tier: str, data_dir: Path = DATA_DIR) -> Path:

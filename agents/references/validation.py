@@ -17,10 +17,8 @@
     :func:`agents.evaluation.episodes.constant_sweep` + :func:`agents.evaluation.episodes.hindsight_constant`).
 (c) The contextual constant, one preload per episode from its first observation
     (:class:`agents.policies.contextual.ContextualConstant`, fitted on training-range scenarios).
-(d) The MPC with the true simulator (:mod:`agents.policies.mpc`) on the first
-    ``agents.protocol.MPC_EPISODES`` test scenarios (:func:`run_mpc`): about
-    9 candidates x 10 intervals / 5 = 18 simulated intervals per real one; measured at the
-    env's 25 us step, 42 s per 150-step episode (two episodes in parallel on 2 cores).
+(d) The upper reference, the full-horizon planner with the true simulator
+    (:mod:`agents.policies.planner`), run per test episode by :mod:`agents.references.planner_runs`.
 
 The oracle (:class:`agents.policies.oracle.MapOracle`) is the fifth reference; it needs no fitting here.
 """
@@ -29,26 +27,23 @@ from __future__ import annotations
 
 import argparse
 import time
-from multiprocessing import get_context
 from pathlib import Path
 from typing import Any, Sequence
 
 import numpy as np
 
 from bearing_gym.task import EPISODE_STEPS
-from bearing_gym.envs.reward import REWARD_TERMS
 from bearing_gym.envs.provenance import kernel_hash
 
 from agents.policies.contextual import ContextualConstant
 from agents.evaluation.result import EvalResult
 from agents.evaluation.episodes import constant_sweep, hindsight_constant
-from agents.policies.mpc import RecedingHorizonMPC
 from agents.references.sweep_cli import parse_sweep, sweep_parser
 from agents.protocol import HINDSIGHT_GRID_STEP_N, VALIDATION, VALIDATION_CONSTANT_EPISODES, VALIDATION_GRID_STEP_N, preload_grid, validation_seeds
 from agents.references.store import STORE_PATH, ValidationChoice, save_choice, validation_episodes
 
 
-__all__ = ["choose_validation_constant", "hindsight_reference", "run_mpc", "ContextualConstant", "main"]
+__all__ = ["choose_validation_constant", "hindsight_grid", "hindsight_reference", "ContextualConstant", "main"]
 
 
 def choose_validation_constant(tier: str, episodes: int = VALIDATION_CONSTANT_EPISODES,
@@ -86,56 +81,6 @@ def hindsight_reference(tier: str, episodes: int, seed: int, episode_steps: int 
     sweep = constant_sweep(grid, episodes, seed, episode_steps, env_kwargs={"tier": tier},
                            progress=progress, **run_kw)
     return hindsight_constant(sweep), sweep
-
-
-# -- (d) the MPC reference ------------------------------------------------------------------------
-def _mpc_episode(job: tuple) -> dict:
-    """One MPC episode (a worker: module level, so a spawned process can run it)."""
-    tier, seed, episode_steps, candidates, horizon, replan_every, single_thread = job
-    if single_thread:
-        import numba
-        numba.set_num_threads(1)                 # one process per core
-    from bearing_gym.envs import BearingPreloadEnv
-    env = BearingPreloadEnv(tier=tier, episode_steps=episode_steps)
-    mpc = RecedingHorizonMPC(candidates_n=tuple(candidates), horizon=horizon, replan_every=replan_every)
-    t0 = time.time()
-    out = mpc.run_episode(env, seed=seed)
-    return {"seed": seed, "return": out.episode_return, "terms": out.terms, "qp": out.quasi_periodic_fraction,
-            "terminated": out.terminated, "preload": float(np.mean(out.preload_n)) if out.preload_n else np.nan,
-            "vibration_um": out.vibration_um, "wall_s": time.time() - t0}
-
-
-def run_mpc(tier: str, seeds: Sequence[int], episode_steps: int = EPISODE_STEPS,
-            mpc: RecedingHorizonMPC | None = None, processes: int = 1,
-            progress: str | None = None) -> tuple[EvalResult, list[float]]:
-    """(the MPC reference's results on the scenarios of ``seeds``, each episode's wall time).
-    With ``processes`` > 1 the episodes run in that many spawned processes, one numba thread
-    each."""
-    mpc = mpc or RecedingHorizonMPC()
-    if processes < 1:
-        raise ValueError(f"processes must be >= 1, got {processes}")
-    jobs = [(tier, int(s), episode_steps, mpc.candidates_n, mpc.horizon, mpc.replan_every, processes > 1)
-            for s in seeds]
-    rows: list[dict] = []
-
-    def report(row: dict) -> None:
-        rows.append(row)
-        if progress:
-            print(f"{progress}: episode {len(rows)}/{len(jobs)} (seed {row['seed']}) return "
-                  f"{row['return']:.2f}, {row['wall_s']:.0f} s", flush=True)
-    if processes == 1:
-        for job in jobs:
-            report(_mpc_episode(job))
-    else:
-        with get_context("spawn").Pool(processes) as pool:
-            for row in pool.imap(_mpc_episode, jobs):
-                report(row)
-    terms = {k: np.array([r["terms"].get(k, 0.0) for r in rows]) for k in REWARD_TERMS}
-    result = EvalResult(f"MPC (true simulator, horizon {mpc.horizon}, {len(mpc.candidates_n)} candidates)",
-                        np.array([r["return"] for r in rows]), terms, np.array([r["qp"] for r in rows]),
-                        np.array([r["preload"] for r in rows]), terminated=np.array([r["terminated"] for r in rows]),
-                        vibration_um=np.array([r["vibration_um"] for r in rows]))
-    return result, [r["wall_s"] for r in rows]
 
 
 # -- the command that rebuilds the stored validation choice ----------------------------------------

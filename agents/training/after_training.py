@@ -23,6 +23,7 @@ from bearing_gym.task import EPISODE_STEPS
 from bearing_gym.envs.tiers import tier_is_deterministic
 
 from agents import protocol as P
+from agents.protocol import preload_grid
 from agents.policies.contextual import ContextualConstant, contextual_path
 from agents.evaluation.trained import PRETRAINED_DIR, shipped_dirs
 from agents.leaderboard.settings import FULL
@@ -36,6 +37,22 @@ __all__ = ["evaluate_run", "BOARD_BOOTSTRAP_REPS"]
 
 #: bootstrap replications of the after-training board (the full leaderboard uses rliable's 50,000)
 BOARD_BOOTSTRAP_REPS = 5_000
+
+
+#: the rate the after-training estimate assumes: env steps per second of a batched constant
+#: sweep on the 2-core development machine (the sweep's own progress lines then measure it)
+SWEEP_ENV_STEPS_PER_S = 150.0
+
+
+def _recompute_note(reason: str, episodes: int, episode_steps: int) -> str:
+    """What the fallback recomputes and how long it will take, said before it starts."""
+    constants = len(preload_grid(P.HINDSIGHT_GRID_STEP_N))
+    steps = constants * episodes * episode_steps
+    return (f"note: {reason}; computing the references here instead: the hindsight sweep, {constants} constant "
+            f"preloads x {episodes} episodes x {episode_steps} steps = {steps:,} env steps, about "
+            f"{steps / SWEEP_ENV_STEPS_PER_S / 60:.0f} min at {SWEEP_ENV_STEPS_PER_S:.0f} env steps/s (a 2-core "
+            "machine; its progress lines say how long is left); no planner (its ~1.5 min per episode is no "
+            "demo's): the upper reference is the hindsight constant")
 
 
 def _missing_reference(tier: str) -> str | None:
@@ -69,10 +86,11 @@ def evaluate_run(model_dir: str | Path, episodes: int, tier: str, episode_steps:
     if episode_steps == EPISODE_STEPS:
         try:
             stored = load_references(tier)
-        except FileNotFoundError as err:
-            print(f"note: {err}; computing the hindsight reference here (no planner)", flush=True)
+        except (FileNotFoundError, ValueError) as err:     # none stored, or a store of an older format
+            print(_recompute_note(str(err), episodes, episode_steps), flush=True)
         if stored is not None and episodes > len(stored.seeds):
-            print(f"note: {episodes} episodes asked, {len(stored.seeds)} stored: computing the references here", flush=True)
+            print(_recompute_note(f"{episodes} episodes asked, {len(stored.seeds)} stored", episodes, episode_steps),
+                  flush=True)
             stored = None
     s = dataclasses.replace(FULL, episodes=episodes, episode_steps=episode_steps,
                             planner=FULL.planner if stored is not None and stored.planner is not None else None,
@@ -90,7 +108,7 @@ def evaluate_run(model_dir: str | Path, episodes: int, tier: str, episode_steps:
     except (ValueError, RuntimeError) as err:      # a stale or mismatched store: not worth the training
         if stored is None:
             raise
-        print(f"note: {err}; computing the hindsight reference here (no planner)", flush=True)
+        print(_recompute_note(str(err), episodes, episode_steps), flush=True)
         result = run_tier(tier, dataclasses.replace(s, planner=None), groups, stored=None)
     results = {**header("after training (train.py)", f"python train.py ... --out {out}", s.bootstrap_reps, s.poi_reps),
                "tiers": {tier: result}}

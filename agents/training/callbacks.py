@@ -52,12 +52,16 @@ class ValidationCallback(EvalCallback):
         beat the earlier best, and the validation history in ``log_path/evaluations.npz`` is
         extended rather than overwritten. A new run (``False``) deletes an earlier run's best
         files, so that they cannot be selected as this run's.
+    :param verbose: 1 (default) prints one line when a validation starts and one with its result
+        (in the voice of train.py's progress lines; SB3's own ``Eval num_timesteps=...`` lines
+        are not printed), 0 nothing.
     Other arguments as for ``EvalCallback``.
     """
 
     def __init__(self, eval_env, validation_seed: int, best_model_save_path: str, resume: bool = False,
-                 progress_every_s: float | None = None, **kwargs):
-        super().__init__(eval_env, best_model_save_path=best_model_save_path, **kwargs)
+                 progress_every_s: float | None = None, verbose: int = 1, **kwargs):
+        super().__init__(eval_env, best_model_save_path=best_model_save_path, verbose=0, **kwargs)
+        self.report = int(verbose)
         self.validation_seed = int(validation_seed)
         self.progress_every_s = progress_every_s
         self._val_t0 = self._val_last = 0.0
@@ -94,7 +98,7 @@ class ValidationCallback(EvalCallback):
         due = self.eval_freq > 0 and self.n_calls % self.eval_freq == 0
         if due:
             self.eval_env.seed(self.validation_seed)
-            if self.verbose >= 1:
+            if self.report >= 1:
                 print(f"validation at {self.num_timesteps:,} steps: {self.n_eval_episodes} episodes on the "
                       f"validation scenarios (seeds from {self.validation_seed})...", flush=True)
             self._val_t0 = self._val_last = time.monotonic()
@@ -102,6 +106,13 @@ class ValidationCallback(EvalCallback):
         keep_going = super()._on_step()
         if due:
             self._save_per_seed()
+        if due and self.report >= 1 and self.evaluations_results:
+            last = np.asarray(self.evaluations_results[-1], dtype=float)
+            print(f"validation at {self.num_timesteps:,} steps: mean return {np.mean(last):.1f} (sd {np.std(last):.1f}) "
+                  f"over {last.size} episodes, {time.monotonic() - self._val_t0:.0f} s"
+                  + ("; the best so far: saved as the run's selected checkpoint"
+                     if self.best_mean_reward > best_before else f"; the best stays {self.best_mean_reward:.1f}"),
+                  flush=True)
         if due and self.best_mean_reward > best_before:
             vn = self.model.get_vec_normalize_env()
             if vn is not None:

@@ -19,7 +19,7 @@ import numpy as np
 
 from bearing_gym.physics import Simulator, SimulatorState
 from bearing_gym.physics.bearing import bearing_force
-from bearing_gym.physics.layout import (I_NGAMMA, I_RP, N_OP, O_OMEGA, O_PX, O_PY, O_PZ, PackedParams,
+from bearing_gym.physics.layout import (I_NGAMMA, I_RP, O_OMEGA, O_PX, O_PY, O_PZ, PackedParams,
                                         pack_params)
 from bearing_gym.physics.portable_math import sincos
 from bearing_gym.physics.rotor import S_CAGE, S_SHAFT, solve_acceleration
@@ -74,7 +74,7 @@ class StatePerturber:
         packed = pack_params(sim.params, sim.damping_coefficients)
         prm = packed.prm.copy()
         prm[I_NGAMMA] = 0.0        # solve_acceleration then gives M a = F + P - (C + G) v
-        op = np.zeros(N_OP)        # the simulator's operating point now
+        op = packed.op.copy()      # the simulator's operating point now (damping factors 1)
         op[O_PZ] = sim.axial_preload_n
         op[O_PX] = sim.radial_load_x_n
         op[O_PY] = sim.radial_load_y_n

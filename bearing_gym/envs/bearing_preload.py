@@ -51,13 +51,33 @@ class BearingPreloadEnv(TaskParts, gym.Env):
     ## Observation Space
 
     ``Box(-10, 10, (15,), float32)`` from the sensor model (:mod:`bearing_gym.envs.observation`
-    has the table and what a real spindle measures): peak-to-peak (/100 um) and RMS (/50 um) of
-    x, y, z; mean cage speed relative to its kinematic value and its peak-to-peak; the
-    quasi-periodicity index; the actual preload and set-point mapped to [-1, 1]; shaft speed /
-    25,000 rpm; the static radial and axial offsets (mean displacement / 100 um, what a
-    displacement probe reads: they carry the radial load and the clearance); the RMS of the
-    non-synchronous displacement (/10 um). The ``field`` tier adds probe noise, runout, an
-    offset that drifts, and drops the cage-speed sensor.
+    has what a real spindle measures and the sensor errors), named by
+    ``bearing_gym.envs.FEATURE_NAMES``; per control interval:
+
+    ==  ====================  ========================================================  =========
+    #   name                  what                                                      scaling
+    ==  ====================  ========================================================  =========
+    0   ``ptp_x``             peak-to-peak displacement x                               / 100 um
+    1   ``ptp_y``             peak-to-peak displacement y                               / 100 um
+    2   ``ptp_z``             peak-to-peak displacement z (axial)                       / 100 um
+    3   ``rms_x``             RMS of x about its mean                                   / 50 um
+    4   ``rms_y``             RMS of y about its mean                                   / 50 um
+    5   ``rms_z``             RMS of z about its mean                                   / 50 um
+    6   ``cage_speed_ratio``  mean cage speed / kinematic cage speed - 1                x 10
+    7   ``cage_speed_ptp``    peak-to-peak cage speed / kinematic cage speed            x 10
+    8   ``qpi``               quasi-periodicity index (period-1 ~0.001-0.03; > 0.1      none
+                              quasi-periodic)
+    9   ``preload``           actual axial preload                                      300-2000 N -> [-1, 1]
+    10  ``setpoint``          last preload set-point (= the last action)                300-2000 N -> [-1, 1]
+    11  ``shaft_speed``       shaft speed                                               / 25,000 rpm
+    12  ``radial_offset``     mean radial displacement (carries the radial load)        / 100 um
+    13  ``axial_offset``      mean axial displacement (carries clearance and preload)   / 100 um
+    14  ``nonsync_rms``       RMS of the non-synchronous displacement (what the reward  / 10 um
+                              charges for)
+    ==  ====================  ========================================================  =========
+
+    The ``field`` tier adds probe noise, runout and a drifting offset, and drops the cage-speed
+    sensor (features 6-7 read 0).
 
     ## Rewards
 
@@ -77,8 +97,9 @@ class BearingPreloadEnv(TaskParts, gym.Env):
     Heat + fatigue cost at most 1 (the costliest corner of the envelope), a quasi-periodic
     interval at least 1: vibration first, then heat and life, then actuation. Each term is in
     ``info`` as ``reward_vibration``, ``reward_heat``, ``reward_fatigue``, ``reward_actuation``,
-    ``reward_termination``; ``info`` also has ``qpi``, ``quasi_periodic``, ``nonsync_rms_um``,
-    ``preload_n``, ``setpoint_n``, ``shaft_speed_rpm``, ``radial_load_n`` and ``t``.
+    ``reward_termination``; ``info`` also has ``qpi`` (the true index, without sensor errors),
+    ``quasi_periodic`` (bool), ``nonsync_rms_um`` (um), ``preload_n`` and ``setpoint_n`` (N),
+    ``shaft_speed_rpm``, ``radial_load_n`` (N) and ``t`` (s into the episode).
 
     ## Starting State
 

@@ -35,7 +35,7 @@ N_ENV_STATE = 2
 class BatchArrays(NamedTuple):
     """What the batch kernel works on, per env ``b`` (first axis): the spindle's constants
     ``prm`` (``I_*``), its operating point ``op`` (``O_*``: speed, radial loads, preload - the
-    kernel sets it every actuator update), the waviness and ball sizes (``n_race``/``n_ball``
+    kernel sets them every actuator update - and the damping's factors, 1 but in the settle's aid), the waviness and ball sizes (``n_race``/``n_ball``
     rows of each in use), the integrator state (X, V, A, scal, psi_b, ball_v, ball_out), the
     env state (``E_*``), the scenario's schedule, and the outputs of the last interval (record
     rows, their count, the status, the window features)."""

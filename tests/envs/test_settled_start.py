@@ -92,3 +92,10 @@ def test_rotor_damping_is_one_property_of_the_spindle():
     batch.load(1, POINTS[3])          # another speed, radial load, clearance and preload
     for b in range(2):
         np.testing.assert_allclose(batch.prm[b, I_CX:I_CTY + 1], expected, rtol=1e-12)
+    # the settle's aid raises factors in the operating point, never the spindle's constants, and
+    # leaves them at exactly 1
+    from bearing_gym.physics.layout import O_DAMPING
+    prm_before = batch.prm.copy()
+    batch.settle(np.arange(2))
+    np.testing.assert_array_equal(batch.prm, prm_before)
+    np.testing.assert_array_equal(batch.op[:, O_DAMPING:O_DAMPING + 5], 1.0)
