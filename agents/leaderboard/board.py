@@ -198,20 +198,27 @@ def _references(tier: str, s: Settings, choice: ValidationChoice, seeds: range, 
     extra = (choice.preload_n,)
     hindsight, sweep = hindsight_reference(tier, s.episodes, seeds.start, s.episode_steps, s.hindsight_grid_step_n,
                                            extra_n=extra,
-                                           progress=f"{tier} 1/3: constant sweep x {shape}" if progress else None)
+                                           progress=f"{tier} stage 1/{_stages(s, None)}: constant sweep x {shape}"
+                                           if progress else None)
     planner = wall = None
     if s.planner is not None:
         held = hindsight_preloads(sweep, hindsight_grid(s.hindsight_grid_step_n, extra))
         plans = []
         for k, seed in enumerate(seeds):
             if progress:
-                print(f"{tier} 2/3: planner, episode {k + 1} of {s.episodes}", flush=True)
+                print(f"{tier} stage 2/{_stages(s, None)}: planner, episode {k + 1} of {s.episodes}", flush=True)
             plans.append(plan_episode(tier, seed, s.episode_steps, s.planner,
                                       hindsight=(held[k], float(hindsight.returns[k]))))
         planner = replay(tier, plans, s.episode_steps)
         wall = float(np.mean([p.wall_s for p in plans]))
     return StoredReferences(tier, tuple(seeds), s.episode_steps, choice.preload_n, s.hindsight_grid_step_n,
                             sweep_row(sweep, choice.preload_n), hindsight, planner, s.planner_settings(), wall)
+
+
+def _stages(s: Settings, stored: StoredReferences | None) -> int:
+    """How many stages a tier's board runs, so that its progress lines count up to it: the
+    policies alone with stored references; else the sweep, the planner (if any), the policies."""
+    return 1 if stored is not None else (3 if s.planner is not None else 2)
 
 
 def _planner_gain(refs: StoredReferences) -> dict[str, Any] | None:
@@ -266,7 +273,8 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
     live_constant = [ConstantPreload(choice.preload_n)] if stored is not None else []
     policies = live_constant + [contextual, MapOracle()] + [p for g in groups for p in g.policies]
     ran = run_policies(policies, s.episodes, seeds.start, s.episode_steps, env_kwargs={"tier": tier},
-                       progress=f"{tier} 3/3: {len(policies)} policies x {shape}" if progress else None)
+                       progress=f"{tier} stage {_stages(s, stored)}/{_stages(s, stored)}: {len(policies)} policies x {shape}"
+                       if progress else None)
     if live_constant:
         refs.check_fresh(ran[0].returns, f"python -m agents.leaderboard --tier {tier}")
         ran = ran[1:]
