@@ -91,8 +91,8 @@ def run_policies(policies: list[Policy], episodes: int, seed: int, episode_steps
         for p, pol in enumerate(policies):
             sl = slice(p * episodes, (p + 1) * episodes)
             if hasattr(pol, "set_conditions"):          # an oracle: told the true operating point
-                speed, radial, clearance = venv.operating_points()
-                pol.set_conditions(speed[sl], radial[sl], clearance[sl])
+                speed, radial, clearance, eccentricity = venv.operating_points()
+                pol.set_conditions(speed[sl], radial[sl], clearance[sl], eccentricity[sl])
             act, states[p] = pol.predict(obs[sl], state=states[p], episode_start=starts, deterministic=True)
             actions[sl] = np.asarray(act, dtype=np.float32).reshape(episodes, 1)
         starts = np.zeros(episodes, dtype=bool)

@@ -173,7 +173,7 @@ def watch(args, say: Out) -> int:
             while True:
                 if oracle:
                     policy.set_conditions(np.array([info["shaft_speed_rpm"]]), np.array([info["radial_load_n"]]),
-                                          np.array([sc.clearance_m]))
+                                          np.array([sc.clearance_m]), np.array([sc.eccentricity_m]))
                 act, state = policy.predict(obs[None], state=state,
                                             episode_start=np.array([start]), deterministic=True)
                 start = False

@@ -143,7 +143,10 @@ class OraclePreload(Policy):
         self.name = f"oracle (+{self.margin_n:.0f} N)"
         self._conditions: np.ndarray | None = None
 
-    def set_conditions(self, speed_rpm: np.ndarray, radial_load_n: np.ndarray, clearance_m: np.ndarray) -> None:
+    def set_conditions(self, speed_rpm: np.ndarray, radial_load_n: np.ndarray, clearance_m: np.ndarray,
+                       eccentricity_m: np.ndarray | None = None) -> None:
+        """The true operating point; ``eccentricity_m`` is accepted (the evaluation loop tells every
+        oracle the unbalance) and ignored: the stability table is at the paper's 10 um."""
         self._conditions = np.column_stack([speed_rpm, radial_load_n, clearance_m])
 
     def predict(self, obs, state=None, episode_start=None, deterministic=True):

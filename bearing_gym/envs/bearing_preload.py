@@ -31,7 +31,7 @@ class BearingPreloadEnv(TaskParts, gym.Env):
     tens of micrometres. Too much preload costs friction heat and fatigue life. The stability
     map is not one boundary: with radial load and clearance there are isolated period-1 windows
     and quasi-periodic bands above them (``docs/reward_map.png``), and it moves with shaft speed,
-    radial load, clearance and waviness. The controller has to find the cheapest period-1
+    radial load, clearance, rotor unbalance and waviness. The controller has to find the cheapest period-1
     preload of the operating point it is in and follow it when the operating point changes.
 
     Each ``step`` advances the physics (Newmark-beta, dt = 25 us with a 1e-10 m equilibrium

@@ -175,11 +175,13 @@ class BearingPreloadVectorEnv(TaskParts, VectorEnv):
         """The scenario each env is running (None before its first reset)."""
         return tuple(self.batch.scenarios)
 
-    def operating_points(self) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
-        """(shaft speed rpm, radial load N, clearance m) of every env now: what an oracle is told."""
+    def operating_points(self) -> tuple[np.ndarray, np.ndarray, np.ndarray, np.ndarray]:
+        """(shaft speed rpm, radial load N, clearance m, rotor eccentricity m) of every env now:
+        what an oracle is told (the reward map's axes)."""
         b = self.batch
         clearance = np.array([np.nan if sc is None else sc.clearance_m for sc in b.scenarios])
-        return rad_s_to_rpm(b.omega()), b.radial_load_n(), clearance
+        eccentricity = np.array([np.nan if sc is None else sc.eccentricity_m for sc in b.scenarios])
+        return rad_s_to_rpm(b.omega()), b.radial_load_n(), clearance, eccentricity
 
     def _with_threads(self, fn, *args):
         """``fn(*args)`` with numba's thread count set to ``num_threads`` for this call only (the

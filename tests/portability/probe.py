@@ -110,7 +110,7 @@ def main(quick: bool) -> dict:
     if not quick:
         from bearing_gym.envs.reward_map import reward_map
         cell = reward_map(speeds_rpm=(17500.0,), radial_loads_n=(250.0,), clearances_m=(17e-6,),
-                          preloads_n=(300.0, 1000.0))
+                          preloads_n=(300.0, 1000.0), eccentricities_m=(10e-6,))   # issue 29's cell
         out["reward_map_cell"] = digest([[p.mean_reward, p.mean_nonsync_rms_um] for p in cell])
     return out
 

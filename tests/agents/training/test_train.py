@@ -51,10 +51,14 @@ def test_smoke_training_saves_reloads_and_evaluates(algo, tmp_path, capsys):
     # run really reaches (no 36,352/36,000), validations, evaluation progress, where the outputs are
     printed = capsys.readouterr().out
     assert "numba kernels: ready" in printed and "validation at 64 steps" in printed
+    # each validation's result in train.py's voice, SB3's own evaluation lines folded in
+    assert "validation at 64 steps: mean return" in printed and "Eval num_timesteps" not in printed
     n = cfg["num_timesteps"]
     assert f"training: 0 -> {n:,} steps" in printed and f"training: {n:,}/{n:,} steps (100 %)" in printed
     # 16-step episodes are not the stored references' 150: the board computes the hindsight here
-    assert "transient 1/3: constant sweep" in printed and "step 16/16 (100 %)" in printed
+    # (no planner: two stages, counted up in order)
+    assert "transient stage 1/2: constant sweep" in printed and "step 16/16 (100 %)" in printed
+    assert printed.index("stage 1/2") < printed.index("stage 2/2")
     announced = printed.split("outputs in")[1].splitlines()[1:]
     for what, name in (("model", "model.zip"), ("leaderboard", "leaderboard.md"),
                        ("tensorboard logs", "tensorboard")):
@@ -176,8 +180,11 @@ def test_validation_scores_every_checkpoint_on_the_same_scenarios(tmp_path, caps
         return np.array(cb.evaluations_results)
     fixed = two_evaluations(ValidationCallback, tmp_path / "fixed", validation_seed=50000, progress_every_s=0.0)
     np.testing.assert_array_equal(fixed[0], fixed[1])
-    # each evaluation is announced, then says how far it is (here at every step: 2 envs x 6 steps)
-    blocks = capsys.readouterr().out.split("validation at ")[1:]
+    # each evaluation is announced, says how far it is (here at every step: 2 envs x 6 steps),
+    # then its result in one line
+    printed = capsys.readouterr().out
+    assert printed.count("steps: mean return") == 2 and "Eval num_timesteps" not in printed
+    blocks = [b for b in printed.split("validation at ")[1:] if "mean return" not in b.splitlines()[0]]
     assert len(blocks) == 2
     for block in blocks:
         done = [int(line.split()[1].split("/")[0]) for line in block.splitlines() if line.startswith("validation: ")]
