@@ -53,3 +53,13 @@ def test_a_stored_hindsight_gives_the_same_plan_and_a_stale_one_is_refused():
                      hindsight=(own.hindsight_preload_n, own.hindsight_return + 1e6))
     with pytest.raises(ValueError, match="outside the actuator's range"):
         plan_episode(tier, seed, episode_steps=STEPS, settings=SMALL, hindsight=(2500.0, 0.0))
+
+
+def test_pruning_changes_no_decision_only_the_cost():
+    """A candidate whose running return (costs only: it can only fall) is already at or below the
+    incumbent's whole-episode return is stopped: the same plan and return, fewer env steps (on
+    this 40-step episode about a quarter fewer)."""
+    full = plan_episode("transient", 300016, episode_steps=40, settings=SMALL, prune=False)
+    pruned = plan_episode("transient", 300016, episode_steps=40, settings=SMALL)
+    assert pruned.return_ == full.return_ and np.array_equal(pruned.plan_n, full.plan_n)
+    assert pruned.accepted == full.accepted and pruned.env_steps < full.env_steps
