@@ -111,6 +111,45 @@ def compute_part(tier: str, kind: str, first: int, n: int, s: Settings | None = 
     return path
 
 
+def add_hindsight_preloads(tier: str, s: Settings | None = None, data_dir: Path = DATA_DIR,
+                           store: Path = STORE_PATH, candidates: int = 3) -> list[Path]:
+    """Give the sweep parts made before parts recorded each episode's hindsight constant
+    (``hindsight_preload_n``) that record, without sweeping the grid again: per episode the
+    ``candidates`` grid constants nearest the hindsight row's mean preload are run, and the one
+    whose return equals the stored hindsight return bit for bit is it (the lowest of them on a
+    tie, as the sweep picks the first; the whole grid where none of them matches). Returns the parts
+    changed; the planner then starts from them (:func:`agents.references.store.stored_hindsight`)."""
+    from agents.evaluation.episodes import constant_sweep
+    s = _tier_settings(tier, s)
+    grid = hindsight_grid(s.hindsight_grid_step_n, (load_choice(tier, store).preload_n,))
+    changed = []
+    for kind, first, n in plan(s):
+        path = _path(tier, kind, first, n, data_dir)
+        part = json.loads(path.read_text()) if path.exists() else None
+        if part is None or part.get("kernel_hash") != kernel_hash() or part.get("hindsight_preload_n") is not None:
+            continue
+        row = part["rows"]["hindsight"]
+        picks = []
+        for k in range(n):
+            want = float(row["returns"][k])
+            near = sorted(grid, key=lambda p: (abs(p - row["mean_preload"][k]), p))[:candidates]
+            for pool in (sorted(near), list(grid)):
+                runs = constant_sweep(pool, 1, first + k, s.episode_steps, env_kwargs={"tier": tier})
+                hits = [p for p, r in zip(pool, runs) if float(r.returns[0]) == want]
+                if hits:
+                    picks.append(float(hits[0]))
+                    break
+            else:
+                raise RuntimeError(f"tier {tier} seed {first + k}: no constant of the grid returns the stored "
+                                   f"hindsight return {want!r}: the part is stale")
+        part["hindsight_preload_n"] = picks
+        tmp = path.with_suffix(".tmp")
+        tmp.write_text(json.dumps(part) + "\n")
+        os.replace(tmp, path)
+        changed.append(path)
+    return changed
+
+
 def merge(tier: str, s: Settings | None = None, data_dir: Path = DATA_DIR, store: Path = STORE_PATH,
           with_planner: bool = True, progress: bool = False) -> Path:
     """Join every part (and, ``with_planner``, every planned episode, replayed) into the stored
@@ -175,6 +214,9 @@ def main(argv: list[str] | None = None) -> int:
     g.add_argument("--until", metavar="HH:MM", help="compute parts while the next can finish before this time")
     g.add_argument("--merge", action="store_true", help="join the parts and the planned episodes into "
                                                          "agents/data/test_references_<tier>.json")
+    g.add_argument("--add-hindsight-preloads", action="store_true",
+                   help="record each episode's hindsight constant in parts made before parts did (a few "
+                        "constants run per episode, matched bit for bit), for the planner to start from")
     ap.add_argument("--without-planner", action="store_true",
                     help="--merge without the planner (its board scores against the hindsight constant: a deviation)")
     ap.add_argument("--data-dir", default=str(DATA_DIR))
@@ -191,6 +233,10 @@ def main(argv: list[str] | None = None) -> int:
               + (f"; next: {todo[0][0]} from seed {todo[0][1]}" if todo else "")
               + f"; planner: {s.episodes - len(unplanned)}/{s.episodes} episodes"
               + ("" if todo or unplanned else "; merge them: --merge"))
+        return 0
+    if a.add_hindsight_preloads:
+        for path in add_hindsight_preloads(a.tier, s, data_dir=data_dir):
+            print(f"{path}: each episode's hindsight constant recorded", flush=True)
         return 0
     if a.merge:
         print(f"wrote {merge(a.tier, s, data_dir=data_dir, with_planner=not a.without_planner, progress=True)}")

@@ -67,6 +67,13 @@ def test_parts_and_plans_merge_to_the_one_go_references_and_a_missing_or_foreign
 
     part = tmp_path / "test_references_transient_parts" / f"sweep_{seeds.start}_1.json"
     good = json.loads(part.read_text())
+    # a part from before parts recorded the hindsight constants gets them back, the same ones
+    older = dict(good)
+    del older["hindsight_preload_n"]
+    part.write_text(json.dumps(older))
+    assert RP.add_hindsight_preloads(tier, SMOKE, tmp_path, store, candidates=1) == [part]
+    assert json.loads(part.read_text())["hindsight_preload_n"] == good["hindsight_preload_n"]
+    assert RP.add_hindsight_preloads(tier, SMOKE, tmp_path, store) == []      # nothing left to add
     for change, problem in ((lambda d: d.update(hindsight_grid_step_n=100.0), "hindsight_grid_step_n = 100.0"),
                             (lambda d: d["rows"]["hindsight"].update(returns=[]), "hindsight row has 0 episodes"),
                             (lambda d: d.update(first_seed=seeds.start + 1), "its file holds sweep from seed")):
