@@ -26,7 +26,9 @@ up to 11 rollouts over the remaining intervals, ~16,000 env steps (``PlanResult.
 measured on `transient` seed 300016: 15,920 steps, 178 s on the 2-core VM with the other core
 busy, return -120.2 against the hindsight constant's -135.4 at 1600 N). Given the hindsight
 constant of a stored sweep of the same episode (the test references' sweep parts), step 1 is
-skipped and two thirds of the cost remain.
+skipped; and as the default reward is a sum of costs, a candidate's rollout stops once its running
+return is at or below the incumbent's (it can only fall further: the same decisions). Together:
+on `transient` seed 300005 the same plan and return with 3,296 env steps instead of 12,740.
 :class:`ScheduledPreload` replays plans as a policy, so a plan's metrics come from the same
 evaluation loop as every other row's.
 """
