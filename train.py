@@ -70,6 +70,10 @@ def build_parser() -> argparse.ArgumentParser:
                     help="model.zip = the best validation checkpoint or the final weights")
     ap.add_argument("--checkpoint-freq", type=int, default=6000, help="checkpoint period in environment steps")
     ap.add_argument("--resume", action="store_true", help="continue from the newest checkpoint in --out")
+    ap.add_argument("--start-bank", metavar="NPZ",
+                    help="train on the scenarios of a start bank (python -m bearing_gym.envs.start_bank), each reset "
+                         "copying its settled start instead of simulating 1.46 s: a finite set of training scenarios "
+                         "(each once before any repeats), not the protocol's distribution; validation is unchanged")
     ap.add_argument("--no-progress", action="store_true",
                     help="no progress bar: plain progress lines, as when the output is not a terminal")
     return ap
@@ -85,16 +89,30 @@ def hyperparams(algo: str) -> dict:
     return out
 
 
-def make_env(n_envs: int, seed: int, episode_steps: int, tier: str, threads: int | None = None):
+def make_env(n_envs: int, seed: int, episode_steps: int, tier: str, threads: int | None = None,
+             start_bank: str | Path | None = None):
     """``n_envs`` environments stepped by one numba kernel on ``threads`` threads (default: one
-    per env, at most numba's thread count - the cores, or ``NUMBA_NUM_THREADS`` if set)."""
+    per env, at most numba's thread count - the cores, or ``NUMBA_NUM_THREADS`` if set); with
+    ``start_bank`` (a .npz of :mod:`bearing_gym.envs.start_bank`) they draw its scenarios and
+    copy its settled starts."""
     import numba
     from stable_baselines3.common.vec_env import VecMonitor
 
     from bearing_gym.envs import BearingPreloadSB3VecEnv
+    extra = {}
+    if start_bank is not None:
+        from bearing_gym.envs import start_bank as banks
+        try:
+            bank = banks.load(start_bank).install()
+        except (OSError, ValueError) as err:
+            raise SystemExit(f"train.py: --start-bank: {err}") from None
+        if bank.tier != tier:
+            raise SystemExit(f"train.py: --start-bank {start_bank} holds tier {bank.tier!r} starts, this run trains "
+                             f"on {tier!r}")
+        extra["scenario"] = banks.BankScenarios(bank)
     venv = BearingPreloadSB3VecEnv(num_envs=n_envs, tier=tier, episode_steps=episode_steps,
                                    max_episode_steps=episode_steps,
-                                   num_threads=threads or min(n_envs, numba.config.NUMBA_NUM_THREADS))
+                                   num_threads=threads or min(n_envs, numba.config.NUMBA_NUM_THREADS), **extra)
     venv.seed(seed)
     return VecMonitor(venv)
 
@@ -188,7 +206,7 @@ def main(argv: list[str] | None = None) -> int:
           flush=True)
     warm_up_kernels(args.n_envs)
 
-    env = make_env(args.n_envs, args.seed, args.episode_steps, args.tier, args.threads)
+    env = make_env(args.n_envs, args.seed, args.episode_steps, args.tier, args.threads, args.start_bank)
     eval_env = make_env(n_val_envs, args.val_seed, args.episode_steps, args.tier, args.threads)
     ckpt_dir = out / "checkpoints"
     latest = sorted(ckpt_dir.glob("model_*_steps.zip"), key=lambda p: int(p.stem.split("_")[-2])) if ckpt_dir.exists() else []

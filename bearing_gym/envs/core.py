@@ -42,6 +42,23 @@ SETTLE_DAMPING_BOOST = 10.0     # damping factor at the start of the aid
 SETTLE_AID_DOFS = (2, 3, 4)     # z, theta_x, theta_y: where the slow ringing lives (not x, y)
 SETTLE_CACHE_SIZE = 512
 _SETTLED: OrderedDict = OrderedDict()   # settle key -> env state after the settled start (per process)
+#: settled starts installed from a start bank (:mod:`bearing_gym.envs.start_bank`): settle-key
+#: digest -> env state, consulted before simulating and never evicted
+_BANKED: dict[str, tuple] = {}
+
+
+def settle_digest(key: tuple) -> str:
+    """A settle key as a stable string (what a start bank stores its states under)."""
+    import hashlib
+    return hashlib.sha1(repr(key).encode()).hexdigest()
+
+
+def install_settled(states: dict[str, tuple]) -> None:
+    """Make settled starts known to every batch of the process (``states``: settle-key digest ->
+    the :attr:`PreloadBatch.STATE` arrays of one env): a reset whose key is among them copies the
+    state instead of simulating the settle - the same bits, as the states are what the settle
+    computed (:mod:`bearing_gym.envs.start_bank` checks the kernel that made them)."""
+    _BANKED.update(states)
 
 
 def scenario_params(base: BearingParams, scenario: Scenario) -> BearingParams:
@@ -191,6 +208,11 @@ class PreloadBatch:
 
     # -- settled start -------------------------------------------------------------------------
     _STATE = ("X", "V", "A", "scal", "psi_b", "ball_v", "ball_out", "feats", "status")
+    STATE = _STATE             # what a settled start is (a start bank stores these per env)
+
+    def settled_state(self, b: int) -> tuple[str, tuple[np.ndarray, ...]]:
+        """(settle-key digest, copies of the :attr:`STATE` arrays) of env ``b`` after its settle."""
+        return settle_digest(self._settle_key(int(b))), tuple(getattr(self, n)[b].copy() for n in self._STATE)
 
     def _settle_key(self, b: int) -> tuple:
         sc = self.scenarios[b]
@@ -230,13 +252,15 @@ class PreloadBatch:
         """
         idx = np.asarray(idx, dtype=np.int64)
         todo: dict[tuple, list[int]] = {}          # key -> envs (the first one is simulated)
+        fresh: dict[tuple, tuple] = {}
         for b in idx:
             key = self._settle_key(int(b))
             if key in _SETTLED:
                 _SETTLED.move_to_end(key)
+            elif _BANKED and settle_digest(key) in _BANKED:
+                fresh[key] = _BANKED[settle_digest(key)]
             else:
                 todo.setdefault(key, []).append(int(b))
-        fresh: dict[tuple, tuple] = {}
         if todo:
             self._run_settle(np.array([envs[0] for envs in todo.values()], dtype=np.int64))
             for key, envs in todo.items():

@@ -220,3 +220,32 @@ def test_recurrent_ppo_trains_saves_and_keeps_its_memory_in_evaluation(tmp_path)
                                episode_start=np.array([False]))
     a1, _ = pol.predict(obs, state=state, episode_start=np.array([False]))
     assert not np.array_equal(a0, a1)
+
+
+def test_a_start_bank_gives_training_its_scenarios_without_a_settle(tmp_path, monkeypatch):
+    """train.py --start-bank: the training envs draw the bank's scenarios (each once before any
+    repeats) and copy its settled starts - no settle is simulated; a bank of another tier is refused."""
+    from collections import OrderedDict
+
+    sys.path.insert(0, str(ROOT))
+    import train
+    from bearing_gym.envs import core
+    from bearing_gym.envs import start_bank as banks
+    monkeypatch.setattr(core, "_SETTLED", OrderedDict())
+    monkeypatch.setattr(core, "_BANKED", {})
+    path = banks.build("transient", (11, 12, 13, 14)).save(tmp_path / "bank.npz")
+    monkeypatch.setattr(core, "_SETTLED", OrderedDict())          # only the bank knows them now
+
+    def no_settle(self, todo):
+        raise AssertionError("a settle ran although the bank holds the start")
+    monkeypatch.setattr(core.PreloadBatch, "_run_settle", no_settle)
+    env = train.make_env(2, 0, 6, "transient", start_bank=path)
+    env.reset()
+    seen = list(env.venv.venv.batch.scenarios)
+    for _ in range(6):                                              # both envs end and reset once
+        env.step(np.zeros((2, 1), dtype=np.float32))
+    seen += list(env.venv.venv.batch.scenarios)
+    bank = banks.load(path)
+    assert sorted(bank.scenarios.index(sc) for sc in seen) == [0, 1, 2, 3]    # all four, none twice
+    with pytest.raises(SystemExit, match="holds tier 'transient' starts, this run trains on 'stationary'"):
+        train.make_env(2, 0, 6, "stationary", start_bank=path)

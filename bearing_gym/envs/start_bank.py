@@ -1,0 +1,188 @@
+"""Start banks: settled starts computed once, so that a reset costs a copy, not a settle.
+
+A reset settles the rotor at the episode's initial operating point (1.46 s of simulated warm-up,
+:meth:`bearing_gym.envs.core.PreloadBatch.settle`): 40-90 env steps' worth of simulation, a third
+of all the simulated time of training. A **start bank** holds, for a fixed list of scenarios (one
+per seed, drawn by a tier's own distribution), the state each settle ends in, and
+
+* :meth:`StartBank.install` makes those states known to every env of the process: a reset whose
+  initial operating point is in the bank copies its state instead of simulating - **the same
+  bits**, as the states are what the settle computed (``tests/envs/test_start_bank.py``);
+* :class:`BankScenarios` is a scenario part that draws the bank's scenarios, each once before any
+  repeats (a permutation from the env's generator): an env built with it trains on the bank.
+
+A bank is only valid for the kernel that computed it: it carries the kernel's fingerprint
+(:func:`bearing_gym.envs.provenance.kernel_hash`) and the env settings that the settle depends on,
+and :func:`load` refuses a bank made by another kernel, naming the command that rebuilds it.
+
+    python -m bearing_gym.envs.start_bank --tier transient --seeds 0 1024 --out bank.npz
+"""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import json
+import time
+from dataclasses import dataclass
+from pathlib import Path
+from typing import Any, Mapping
+
+import numpy as np
+
+from .core import install_settled
+from .scenario import Scenario
+
+__all__ = ["StartBank", "build", "load", "BankScenarios", "main"]
+
+_FORMAT = 1
+
+
+@dataclass(frozen=True)
+class StartBank:
+    """Settled starts of ``scenarios`` (the scenario of each seed of ``seeds`` on ``tier``):
+    ``digests[i]`` is the settle key of scenario i, ``states[digest]`` its settled state (the
+    :attr:`~bearing_gym.envs.core.PreloadBatch.STATE` arrays of one env)."""
+
+    tier: str
+    seeds: tuple[int, ...]
+    scenarios: tuple[Scenario, ...]
+    digests: tuple[str, ...]
+    states: dict[str, tuple[np.ndarray, ...]]
+    kernel_hash: str
+    env_kwargs: dict[str, Any]
+
+    def __len__(self) -> int:
+        return len(self.scenarios)
+
+    def install(self) -> "StartBank":
+        """Make the bank's settled starts known to every env of this process (returns self)."""
+        install_settled(self.states)
+        return self
+
+    def save(self, path: str | Path) -> Path:
+        """Write the bank as a compressed .npz (one array per state field, stacked)."""
+        path = Path(path)
+        path.parent.mkdir(parents=True, exist_ok=True)
+        first = self.states[self.digests[0]]
+        arrays = {f"state_{k}": np.stack([self.states[d][k] for d in self.digests]) for k in range(len(first))}
+        meta = {"format": _FORMAT, "tier": self.tier, "seeds": list(self.seeds), "digests": list(self.digests),
+                "kernel_hash": self.kernel_hash, "env_kwargs": self.env_kwargs,
+                "scenarios": [_scenario_json(sc) for sc in self.scenarios]}
+        tmp = path.with_name(path.name + ".tmp.npz")
+        np.savez_compressed(tmp, meta=np.array(json.dumps(meta)), **arrays)
+        tmp.replace(path)
+        return path
+
+
+def _scenario_json(sc: Scenario) -> dict[str, Any]:
+    d = dataclasses.asdict(sc)
+    d.pop("entry_point", None)
+    return d
+
+
+def _scenario_from_json(d: Mapping[str, Any]) -> Scenario:
+    return Scenario(**{k: (tuple(tuple(r) for r in v) if k.endswith("_profile") else v) for k, v in d.items()})
+
+
+def rebuild_command(tier: str, seeds: tuple[int, ...], out: str | Path) -> str:
+    return (f"python -m bearing_gym.envs.start_bank --tier {tier} --seeds {seeds[0]} {seeds[-1] + 1} "
+            f"--out {out}")
+
+
+def build(tier: str, seeds, batch_envs: int = 32, progress: bool = False, **env_kwargs: Any) -> StartBank:
+    """Settle the scenario of every seed of ``seeds`` on ``tier`` (``batch_envs`` at a time: the
+    settles of a batch run together on the numba threads) and keep the states."""
+    from .provenance import kernel_hash
+    from .vector import BearingPreloadVectorEnv
+    seeds = tuple(int(s) for s in seeds)
+    if not seeds:
+        raise ValueError("seeds must name at least one seed")
+    n = max(1, min(int(batch_envs), len(seeds)))
+    venv = BearingPreloadVectorEnv(num_envs=n, tier=tier, max_episode_steps=None, **env_kwargs)
+    scenarios: list[Scenario] = []
+    digests: list[str] = []
+    states: dict[str, tuple[np.ndarray, ...]] = {}
+    t0 = time.time()
+    for k in range(0, len(seeds), n):
+        chunk = list(seeds[k:k + n])
+        venv.reset(seed=chunk + [chunk[-1]] * (n - len(chunk)))
+        for b in range(len(chunk)):
+            digest, state = venv.batch.settled_state(b)
+            scenarios.append(venv.batch.scenarios[b])
+            digests.append(digest)
+            states[digest] = state
+        if progress:
+            done = k + len(chunk)
+            el = time.time() - t0
+            print(f"start bank {tier}: {done}/{len(seeds)} starts settled, {el / 60:.1f} min, about "
+                  f"{el / done * (len(seeds) - done) / 60:.1f} min left", flush=True)
+    venv.close()
+    return StartBank(tier, seeds, tuple(scenarios), tuple(digests), states, kernel_hash(), dict(env_kwargs))
+
+
+def load(path: str | Path, check_kernel: bool = True) -> StartBank:
+    """The bank at ``path``; ValueError naming the rebuild command if another kernel made it."""
+    path = Path(path)
+    with np.load(path, allow_pickle=False) as f:
+        meta = json.loads(str(f["meta"]))
+        if meta.get("format") != _FORMAT:
+            raise ValueError(f"{path}: start bank format {meta.get('format')}, this code reads {_FORMAT}")
+        fields = sorted((k for k in f.files if k.startswith("state_")), key=lambda k: int(k.split("_")[1]))
+        arrays = [f[k] for k in fields]
+    seeds = tuple(meta["seeds"])
+    if check_kernel:
+        from .provenance import kernel_hash
+        here = kernel_hash()
+        if meta["kernel_hash"] != here:
+            raise ValueError(f"{path}: the start bank was made by kernel {meta['kernel_hash']}, not this one ({here}): "
+                             f"its states would not be this kernel's settles; rebuild it with "
+                             f"`{rebuild_command(meta['tier'], seeds, path)}`")
+    digests = tuple(meta["digests"])
+    states = {d: tuple(a[i].copy() for a in arrays) for i, d in enumerate(digests)}
+    return StartBank(meta["tier"], seeds, tuple(_scenario_from_json(d) for d in meta["scenarios"]), digests, states,
+                     meta["kernel_hash"], dict(meta["env_kwargs"]))
+
+
+@dataclass
+class BankScenarios:
+    """A scenario part that draws the scenarios of a start bank: each once, in an order drawn from
+    the env's generator at the first draw, before any repeats (then a new order). With the bank
+    installed, every reset is a copy. Pinning options are refused (the bank's scenarios are fixed)."""
+
+    bank: StartBank
+
+    def __post_init__(self) -> None:
+        if not len(self.bank):
+            raise ValueError("BankScenarios needs a start bank with at least one scenario")
+        self._order: np.ndarray | None = None
+        self._next = 0
+
+    def sample(self, rng: np.random.Generator, episode_s: float, pinned: Mapping[str, Any] | None = None) -> Scenario:
+        if pinned:
+            raise ValueError(f"a start bank's scenarios are fixed: reset options {sorted(pinned)} cannot pin them "
+                             "(pass options={'scenario': Scenario(...)} for one of your own)")
+        if self._order is None or self._next >= len(self._order):
+            self._order = rng.permutation(len(self.bank))
+            self._next = 0
+        i = int(self._order[self._next])
+        self._next += 1
+        return self.bank.scenarios[i]
+
+
+def main(argv: list[str] | None = None) -> None:
+    ap = argparse.ArgumentParser(prog="python -m bearing_gym.envs.start_bank", description=__doc__.split("\n\n")[0])
+    ap.add_argument("--tier", required=True)
+    ap.add_argument("--seeds", nargs=2, type=int, metavar=("FIRST", "STOP"), required=True,
+                    help="the seeds FIRST..STOP-1, one scenario each")
+    ap.add_argument("--out", required=True, help="the .npz to write")
+    ap.add_argument("--batch-envs", type=int, default=32)
+    a = ap.parse_args(argv)
+    if not a.seeds[1] > a.seeds[0]:
+        ap.error(f"--seeds FIRST STOP needs STOP > FIRST, got {a.seeds}")
+    bank = build(a.tier, range(*a.seeds), a.batch_envs, progress=True)
+    print(f"wrote {bank.save(a.out)} ({len(bank)} settled starts, kernel {bank.kernel_hash})")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,80 @@
+"""Start banks: a reset from a bank's settled start is the same, bit for bit, as settling on the
+fly; a bank made by another kernel is refused; its scenario part draws every start once before any
+repeats."""
+
+import json
+from collections import OrderedDict
+
+import numpy as np
+import pytest
+
+from bearing_gym.envs import BearingPreloadVectorEnv, core
+from bearing_gym.envs import start_bank as SB
+
+TIER = "transient"
+SEEDS = (7, 8, 9)
+
+
+@pytest.fixture
+def clean_caches(monkeypatch):
+    """No settled start remembered from other tests: the bank's or a fresh settle only."""
+    monkeypatch.setattr(core, "_SETTLED", OrderedDict())
+    monkeypatch.setattr(core, "_BANKED", {})
+
+
+def _episode(venv, seeds, steps=3):
+    obs, _ = venv.reset(seed=list(seeds))
+    out = [obs.copy()]
+    for _ in range(steps):
+        obs, reward, *_ = venv.step(np.full(venv.num_envs, 0.2))
+        out += [obs.copy(), reward.copy()]
+    return out, np.concatenate([venv.batch.X.ravel(), venv.batch.V.ravel()])
+
+
+def test_a_reset_from_the_bank_is_the_settle_bit_for_bit(tmp_path, clean_caches, monkeypatch):
+    fresh, state = _episode(BearingPreloadVectorEnv(num_envs=3, tier=TIER, max_episode_steps=None), SEEDS)
+    bank = SB.build(TIER, SEEDS, batch_envs=2)
+    assert len(bank) == 3 and len(set(bank.digests)) == 3
+    path = bank.save(tmp_path / "bank.npz")
+    monkeypatch.setattr(core, "_SETTLED", OrderedDict())          # forget the settles above
+    SB.load(path).install()
+
+    def no_settle(self, todo):
+        raise AssertionError(f"envs {todo} were settled although the bank holds their starts")
+    monkeypatch.setattr(core.PreloadBatch, "_run_settle", no_settle)
+    banked, banked_state = _episode(BearingPreloadVectorEnv(num_envs=3, tier=TIER, max_episode_steps=None), SEEDS)
+    for a, b in zip(fresh, banked):
+        np.testing.assert_array_equal(a, b)
+    np.testing.assert_array_equal(state, banked_state)
+    # the bank's scenarios are the tier's own for those seeds
+    venv = BearingPreloadVectorEnv(num_envs=3, tier=TIER, max_episode_steps=None)
+    venv.reset(seed=list(SEEDS))
+    assert tuple(venv.batch.scenarios) == SB.load(path).scenarios
+
+
+def test_a_bank_of_another_kernel_is_refused_with_the_rebuild_command(tmp_path, clean_caches):
+    path = SB.build(TIER, SEEDS[:1]).save(tmp_path / "bank.npz")
+    with np.load(path) as f:
+        meta = json.loads(str(f["meta"]))
+        arrays = {k: f[k] for k in f.files if k != "meta"}
+    meta["kernel_hash"] = "0123456789abcdef"
+    np.savez_compressed(path, meta=np.array(json.dumps(meta)), **arrays)
+    with pytest.raises(ValueError, match="kernel 0123456789abcdef.*python -m bearing_gym.envs.start_bank --tier transient"):
+        SB.load(path)
+
+
+def test_bank_scenarios_draw_every_start_once_before_any_repeats(clean_caches):
+    bank = SB.StartBank(TIER, (1, 2, 3), tuple(core.Scenario(initial_preload_n=p) for p in (500.0, 900.0, 1300.0)),
+                        ("a", "b", "c"), {}, "x", {})
+    part = SB.BankScenarios(bank)
+    rng = np.random.default_rng(0)
+    first = [part.sample(rng, 3.0).initial_preload_n for _ in range(3)]
+    assert sorted(first) == [500.0, 900.0, 1300.0]
+    second = [part.sample(rng, 3.0).initial_preload_n for _ in range(3)]
+    assert sorted(second) == [500.0, 900.0, 1300.0]
+    with pytest.raises(ValueError, match="cannot pin"):
+        part.sample(rng, 3.0, {"clearance_m": 1e-5})
+    # an env built with it draws the bank's scenarios
+    venv = BearingPreloadVectorEnv(num_envs=2, tier=TIER, scenario=part, max_episode_steps=None)
+    venv.reset(seed=[0, 1])
+    assert all(sc in bank.scenarios for sc in venv.batch.scenarios)
