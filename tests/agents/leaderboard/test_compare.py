@@ -56,8 +56,13 @@ def test_trace_figure_names_its_scenario_shows_the_hindsight_reference_and_label
     assert h.trace is chosen.trace and chosen.name in h.trace_label
     fig = plot_traces([sweep[0], h], None, first_seed=100000)
     try:
-        title = fig.axes[0].get_title()
+        title = fig.get_suptitle()                  # the figure's title, wrapped inside its width
         assert "seed 100000" in title and "rpm" in title and "radial load" in title and "clearance" in title
+        assert max(len(line) for line in title.splitlines()) <= 110
+        # the legend stands right of the top panel, over no trace
+        legend = fig.axes[0].get_legend()
+        assert legend is not None and legend.get_bbox_to_anchor().transformed(
+            fig.axes[0].transAxes.inverted()).x0 >= 1.0
         assert any(line.get_label() == h.trace_label for line in fig.axes[0].get_lines())
         for ax in fig.axes:
             assert ax.get_ylabel().endswith(")"), ax.get_ylabel()       # every axis has its unit
