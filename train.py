@@ -109,10 +109,21 @@ def make_env(n_envs: int, seed: int, episode_steps: int, tier: str, threads: int
         if bank.tier != tier:
             raise SystemExit(f"train.py: --start-bank {start_bank} holds tier {bank.tier!r} starts, this run trains "
                              f"on {tier!r}")
+        bank_steps = bank.env_kwargs.get("episode_steps", EPISODE_STEPS)
+        if bank_steps != episode_steps:
+            raise SystemExit(f"train.py: --start-bank {start_bank} holds scenarios of {bank_steps}-step episodes, this "
+                             f"run's have {episode_steps}")
         extra["scenario"] = banks.BankScenarios(bank)
     venv = BearingPreloadSB3VecEnv(num_envs=n_envs, tier=tier, episode_steps=episode_steps,
                                    max_episode_steps=episode_steps,
                                    num_threads=threads or min(n_envs, numba.config.NUMBA_NUM_THREADS), **extra)
+    if start_bank is not None:            # the bank must hold this env's settles, or it saves nothing
+        batch = venv.venv.batch
+        batch.load(0, bank.scenarios[0])
+        if batch.settle_digest(0) != bank.digests[0]:
+            raise SystemExit(f"train.py: --start-bank {start_bank} was built for other env settings (physics, "
+                             "actuator or control interval) than this run's: its starts would never be used; rebuild "
+                             f"it: {banks.rebuild_command(bank.tier, bank.seeds, start_bank)}")
     venv.seed(seed)
     return VecMonitor(venv)
 

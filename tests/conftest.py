@@ -15,7 +15,9 @@ def pytest_sessionstart(session):
 
     import bearing_gym
     cache = Path(bearing_gym.NUMBA_CACHE_DIR)
-    cached = sum(1 for _ in cache.rglob("*.nbi")) if cache.is_dir() else 0
+    import sys
+    tag = f"*.py{sys.version_info.major}{sys.version_info.minor}.nbi"     # numba's index files of this Python
+    cached = sum(1 for _ in cache.rglob(tag)) if cache.is_dir() else 0
     line = (f"bearing_gym: numba kernels cached in {cache} ({cached} index files): they load in seconds"
             if cached else
             f"bearing_gym: no numba cache yet in {cache}: the first tests compile the kernels once "

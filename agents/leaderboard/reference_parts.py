@@ -121,7 +121,6 @@ def add_hindsight_preloads(tier: str, s: Settings | None = None, data_dir: Path 
     changed; the planner then starts from them (:func:`agents.references.store.stored_hindsight`)."""
     from agents.evaluation.episodes import constant_sweep
     s = _tier_settings(tier, s)
-    grid = hindsight_grid(s.hindsight_grid_step_n, (load_choice(tier, store).preload_n,))
     changed = []
     for kind, first, n in plan(s):
         path = _path(tier, kind, first, n, data_dir)
@@ -129,12 +128,14 @@ def add_hindsight_preloads(tier: str, s: Settings | None = None, data_dir: Path 
         if part is None or part.get("kernel_hash") != kernel_hash() or part.get("hindsight_preload_n") is not None:
             continue
         row = part["rows"]["hindsight"]
+        # the grid and the episodes the part itself was swept on (not today's settings)
+        grid = hindsight_grid(part["hindsight_grid_step_n"], (part["validation_preload_n"],))
         picks = []
         for k in range(n):
             want = float(row["returns"][k])
             near = sorted(grid, key=lambda p: (abs(p - row["mean_preload"][k]), p))[:candidates]
             for pool in (sorted(near), list(grid)):
-                runs = constant_sweep(pool, 1, first + k, s.episode_steps, env_kwargs={"tier": tier})
+                runs = constant_sweep(pool, 1, first + k, part["episode_steps"], env_kwargs={"tier": tier})
                 hits = [p for p, r in zip(pool, runs) if float(r.returns[0]) == want]
                 if hits:
                     picks.append(float(hits[0]))

@@ -106,10 +106,13 @@ class ValidationCallback(EvalCallback):
         keep_going = super()._on_step()
         if due:
             self._save_per_seed()
-        if due and self.report >= 1 and self.evaluations_results:
-            last = np.asarray(self.evaluations_results[-1], dtype=float)
-            print(f"validation at {self.num_timesteps:,} steps: mean return {np.mean(last):.1f} (sd {np.std(last):.1f}) "
-                  f"over {last.size} episodes, {time.monotonic() - self._val_t0:.0f} s"
+        if due and self.report >= 1:
+            spread = ""
+            if self.evaluations_results:          # kept by SB3 when there is a log_path
+                last = np.asarray(self.evaluations_results[-1], dtype=float)
+                spread = f" (sd {np.std(last):.1f})"
+            print(f"validation at {self.num_timesteps:,} steps: mean return {self.last_mean_reward:.1f}{spread} "
+                  f"over {self.n_eval_episodes} episodes, {time.monotonic() - self._val_t0:.0f} s"
                   + ("; the best so far: saved as the run's selected checkpoint"
                      if self.best_mean_reward > best_before else f"; the best stays {self.best_mean_reward:.1f}"),
                   flush=True)

@@ -210,14 +210,20 @@ class PreloadBatch:
     _STATE = ("X", "V", "A", "scal", "psi_b", "ball_v", "ball_out", "feats", "status")
     STATE = _STATE             # what a settled start is (a start bank stores these per env)
 
+    def settle_digest(self, b: int) -> str:
+        """The digest of env ``b``'s settle key (its loaded scenario's initial operating point,
+        the physics and the control timing): what a start bank files its settled state under."""
+        return settle_digest(self._settle_key(int(b)))
+
     def settled_state(self, b: int) -> tuple[str, tuple[np.ndarray, ...]]:
         """(settle-key digest, copies of the :attr:`STATE` arrays) of env ``b`` after its settle."""
         return settle_digest(self._settle_key(int(b))), tuple(getattr(self, n)[b].copy() for n in self._STATE)
 
     def _settle_key(self, b: int) -> tuple:
         sc = self.scenarios[b]
-        return (sc.operating_key(), repr(self.base), self.n_sub, self.steps_per_sub,
-                tuple(self.act))
+        # plain Python values only: its repr (a start bank's digest) must not depend on NumPy's
+        return (sc.operating_key(), repr(self.base), int(self.n_sub), int(self.steps_per_sub),
+                tuple(float(x) for x in self.act))
 
     def settle(self, idx: np.ndarray) -> None:
         """Bring envs ``idx`` (just loaded) onto the motion they settle to at their initial

@@ -38,7 +38,7 @@ __all__ = ["StartBank", "build", "load", "BankScenarios", "main"]
 _FORMAT = 1
 
 
-@dataclass(frozen=True)
+@dataclass(frozen=True, eq=False)
 class StartBank:
     """Settled starts of ``scenarios`` (the scenario of each seed of ``seeds`` on ``tier``):
     ``digests[i]`` is the settle key of scenario i, ``states[digest]`` its settled state (the
@@ -48,9 +48,9 @@ class StartBank:
     seeds: tuple[int, ...]
     scenarios: tuple[Scenario, ...]
     digests: tuple[str, ...]
-    states: dict[str, tuple[np.ndarray, ...]]
-    kernel_hash: str
-    env_kwargs: dict[str, Any]
+    states: dict[str, tuple[np.ndarray, ...]] = dataclasses.field(repr=False)
+    kernel_hash: str = ""
+    env_kwargs: dict[str, Any] = dataclasses.field(default_factory=dict)
 
     def __len__(self) -> int:
         return len(self.scenarios)
@@ -98,6 +98,10 @@ def build(tier: str, seeds, batch_envs: int = 32, progress: bool = False, **env_
     seeds = tuple(int(s) for s in seeds)
     if not seeds:
         raise ValueError("seeds must name at least one seed")
+    try:
+        json.dumps(env_kwargs)
+    except TypeError:
+        raise TypeError(f"start bank env_kwargs must be JSON values (the bank records them), got {env_kwargs!r}") from None
     n = max(1, min(int(batch_envs), len(seeds)))
     venv = BearingPreloadVectorEnv(num_envs=n, tier=tier, max_episode_steps=None, **env_kwargs)
     scenarios: list[Scenario] = []
@@ -148,9 +152,13 @@ def load(path: str | Path, check_kernel: bool = True) -> StartBank:
 class BankScenarios:
     """A scenario part that draws the scenarios of a start bank: each once, in an order drawn from
     the env's generator at the first draw, before any repeats (then a new order). With the bank
-    installed, every reset is a copy. Pinning options are refused (the bank's scenarios are fixed)."""
+    installed, every reset is a copy. Pinning options are refused (the bank's scenarios are fixed).
 
-    bank: StartBank
+    The order is the part's, shared by the envs of a vector env in the order they reset; seeding
+    an env again does not restart it, and a resumed training run draws a new one (a finite
+    training set, each start once per pass - not one episode per seed)."""
+
+    bank: StartBank = dataclasses.field(repr=False, compare=False)
 
     def __post_init__(self) -> None:
         if not len(self.bank):

@@ -233,7 +233,8 @@ def test_a_start_bank_gives_training_its_scenarios_without_a_settle(tmp_path, mo
     from bearing_gym.envs import start_bank as banks
     monkeypatch.setattr(core, "_SETTLED", OrderedDict())
     monkeypatch.setattr(core, "_BANKED", {})
-    path = banks.build("transient", (11, 12, 13, 14)).save(tmp_path / "bank.npz")
+    path = banks.build("transient", (11, 12, 13, 14), episode_steps=6).save(tmp_path / "bank.npz")
+    other = banks.build("transient", (11,), episode_steps=6, control_dt_s=0.04).save(tmp_path / "other.npz")
     monkeypatch.setattr(core, "_SETTLED", OrderedDict())          # only the bank knows them now
 
     def no_settle(self, todo):
@@ -249,3 +250,7 @@ def test_a_start_bank_gives_training_its_scenarios_without_a_settle(tmp_path, mo
     assert sorted(bank.scenarios.index(sc) for sc in seen) == [0, 1, 2, 3]    # all four, none twice
     with pytest.raises(SystemExit, match="holds tier 'transient' starts, this run trains on 'stationary'"):
         train.make_env(2, 0, 6, "stationary", start_bank=path)
+    with pytest.raises(SystemExit, match="scenarios of 6-step episodes, this run's have 150"):
+        train.make_env(2, 0, 150, "transient", start_bank=path)
+    with pytest.raises(SystemExit, match="built for other env settings"):      # another control interval
+        train.make_env(2, 0, 6, "transient", start_bank=other)
