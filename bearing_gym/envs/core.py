@@ -263,8 +263,8 @@ class PreloadBatch:
             key = self._settle_key(int(b))
             if key in _SETTLED:
                 _SETTLED.move_to_end(key)
-            elif _BANKED and settle_digest(key) in _BANKED:
-                fresh[key] = _BANKED[settle_digest(key)]
+            elif (banked := _BANKED.get(settle_digest(key)) if _BANKED else None) is not None:
+                fresh[key] = banked
             else:
                 todo.setdefault(key, []).append(int(b))
         if todo:
