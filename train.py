@@ -16,6 +16,12 @@ last_model.zip and last_vec_normalize.pkl (the final weights), and leaderboard.m
 --eval-episodes test seeds, normalised scores). model.zip is the best validation checkpoint
 (--select best, the default) or the final weights (--select last).
 
+Training's settled starts come from the start bank shipped for the tier if there is one
+(agents/data/start_bank_<tier>.npz, --start-bank auto): each reset then copies a settled state
+(the same bits as settling it) instead of simulating 1.46 s, and training draws the bank's
+scenarios, each once before any repeats (a run of the budget meets none twice). --start-bank none
+draws every start afresh and settles it, as the frozen protocol's runs do.
+
 It reports as it goes, in plain lines that read the same in a terminal and in a log file
 (``python train.py > train.log 2>&1``): whether the numba kernels are being compiled (a one-off),
 training progress with the rate and the time left every 30 s (in a terminal without
@@ -33,6 +39,7 @@ import sys
 import time
 from pathlib import Path
 
+from agents.paths import start_bank_path
 from agents.protocol import STEP_BUDGET_PER_RUN, TEST, VALIDATION, VALIDATION_EPISODES_IN_TRAINING, VALIDATION_EVERY_STEPS
 from bearing_gym.task import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
 
@@ -70,10 +77,13 @@ def build_parser() -> argparse.ArgumentParser:
                     help="model.zip = the best validation checkpoint or the final weights")
     ap.add_argument("--checkpoint-freq", type=int, default=6000, help="checkpoint period in environment steps")
     ap.add_argument("--resume", action="store_true", help="continue from the newest checkpoint in --out")
-    ap.add_argument("--start-bank", metavar="NPZ",
-                    help="train on the scenarios of a start bank (python -m bearing_gym.envs.start_bank), each reset "
-                         "copying its settled start instead of simulating 1.46 s: a finite set of training scenarios "
-                         "(each once before any repeats), not the protocol's distribution; validation is unchanged")
+    ap.add_argument("--start-bank", metavar="NPZ|auto|none", default="auto",
+                    help="where training's settled starts come from. auto (default): the start bank shipped for "
+                         "the tier (agents/data/start_bank_<tier>.npz) if there is one and this kernel made it, "
+                         "else every start is settled; NPZ: that bank (python -m bearing_gym.envs.start_bank), "
+                         "refused if it does not fit; none: settle every start. With a bank, training draws the "
+                         "bank's scenarios (each once before any repeats) and each reset copies its settled start "
+                         "instead of simulating 1.46 s; validation is unchanged")
     ap.add_argument("--no-progress", action="store_true",
                     help="no progress bar: plain progress lines, as when the output is not a terminal")
     return ap
@@ -89,12 +99,65 @@ def hyperparams(algo: str) -> dict:
     return out
 
 
+def load_start_bank(path: str | Path, tier: str, episode_steps: int):
+    """The start bank at ``path`` if it fits a run on ``tier`` with ``episode_steps``-step
+    episodes and the env's default physics and timing; ValueError saying why not."""
+    from bearing_gym.envs import BearingPreloadVectorEnv
+    from bearing_gym.envs import start_bank as banks
+    try:
+        bank = banks.load(path)
+    except OSError as err:
+        raise ValueError(str(err)) from None
+    if bank.tier != tier:
+        raise ValueError(f"{path} holds tier {bank.tier!r} starts, this run trains on {tier!r}")
+    bank_steps = bank.env_kwargs.get("episode_steps", EPISODE_STEPS)
+    if bank_steps != episode_steps:
+        raise ValueError(f"{path} holds scenarios of {bank_steps}-step episodes, this run's have {episode_steps}")
+    probe = BearingPreloadVectorEnv(num_envs=1, tier=tier, episode_steps=episode_steps, max_episode_steps=None)
+    probe.batch.load(0, bank.scenarios[0])
+    fits = probe.batch.settle_digest(0) == bank.digests[0]
+    probe.close()
+    if not fits:                          # the bank must hold this env's settles, or it saves nothing
+        raise ValueError(f"{path} was built for other env settings (physics, actuator or control interval) than "
+                         f"this run's: its starts would never be used; rebuild it: "
+                         f"{banks.rebuild_command(bank.tier, bank.seeds, path)}")
+    return bank
+
+
+def choose_start_bank(option: str | None, tier: str, episode_steps: int) -> Path | None:
+    """The bank ``--start-bank`` names (``auto``: the shipped one of the tier if it fits, else
+    None, saying why; ``none``: None; a path: that bank, SystemExit if it does not fit)."""
+    if option is None or option == "none":
+        return None
+    if option != "auto":
+        try:
+            load_start_bank(option, tier, episode_steps)
+        except ValueError as err:
+            raise SystemExit(f"train.py: --start-bank: {err}") from None
+        return Path(option)
+    shipped = start_bank_path(tier)
+    if not shipped.exists():
+        print(f"start bank: none shipped for tier {tier}: every training start is settled (1.46 s simulated each)",
+              flush=True)
+        return None
+    try:
+        bank = load_start_bank(shipped, tier, episode_steps)
+    except ValueError as err:
+        print(f"start bank: the shipped one is not used ({err}); every training start is settled (1.46 s "
+              "simulated each)", flush=True)
+        return None
+    print(f"start bank: {shipped} ({len(bank)} settled starts of tier {tier}): training draws its scenarios, each "
+          "once before any repeats, and a reset copies the start instead of settling it (--start-bank none: "
+          "fresh draws, each settled)", flush=True)
+    return shipped
+
+
 def make_env(n_envs: int, seed: int, episode_steps: int, tier: str, threads: int | None = None,
              start_bank: str | Path | None = None):
     """``n_envs`` environments stepped by one numba kernel on ``threads`` threads (default: one
     per env, at most numba's thread count - the cores, or ``NUMBA_NUM_THREADS`` if set); with
     ``start_bank`` (a .npz of :mod:`bearing_gym.envs.start_bank`) they draw its scenarios and
-    copy its settled starts."""
+    copy its settled starts (SystemExit if the bank does not fit the run)."""
     import numba
     from stable_baselines3.common.vec_env import VecMonitor
 
@@ -103,27 +166,13 @@ def make_env(n_envs: int, seed: int, episode_steps: int, tier: str, threads: int
     if start_bank is not None:
         from bearing_gym.envs import start_bank as banks
         try:
-            bank = banks.load(start_bank).install()
-        except (OSError, ValueError) as err:
+            bank = load_start_bank(start_bank, tier, episode_steps).install()
+        except ValueError as err:
             raise SystemExit(f"train.py: --start-bank: {err}") from None
-        if bank.tier != tier:
-            raise SystemExit(f"train.py: --start-bank {start_bank} holds tier {bank.tier!r} starts, this run trains "
-                             f"on {tier!r}")
-        bank_steps = bank.env_kwargs.get("episode_steps", EPISODE_STEPS)
-        if bank_steps != episode_steps:
-            raise SystemExit(f"train.py: --start-bank {start_bank} holds scenarios of {bank_steps}-step episodes, this "
-                             f"run's have {episode_steps}")
         extra["scenario"] = banks.BankScenarios(bank)
     venv = BearingPreloadSB3VecEnv(num_envs=n_envs, tier=tier, episode_steps=episode_steps,
                                    max_episode_steps=episode_steps,
                                    num_threads=threads or min(n_envs, numba.config.NUMBA_NUM_THREADS), **extra)
-    if start_bank is not None:            # the bank must hold this env's settles, or it saves nothing
-        batch = venv.venv.batch
-        batch.load(0, bank.scenarios[0])
-        if batch.settle_digest(0) != bank.digests[0]:
-            raise SystemExit(f"train.py: --start-bank {start_bank} was built for other env settings (physics, "
-                             "actuator or control interval) than this run's: its starts would never be used; rebuild "
-                             f"it: {banks.rebuild_command(bank.tier, bank.seeds, start_bank)}")
     venv.seed(seed)
     return VecMonitor(venv)
 
@@ -217,7 +266,9 @@ def main(argv: list[str] | None = None) -> int:
           flush=True)
     warm_up_kernels(args.n_envs)
 
-    env = make_env(args.n_envs, args.seed, args.episode_steps, args.tier, args.threads, args.start_bank)
+    bank = choose_start_bank(args.start_bank, args.tier, args.episode_steps)
+    args.start_bank = None if bank is None else str(bank)      # config.json records the bank used
+    env = make_env(args.n_envs, args.seed, args.episode_steps, args.tier, args.threads, bank)
     eval_env = make_env(n_val_envs, args.val_seed, args.episode_steps, args.tier, args.threads)
     ckpt_dir = out / "checkpoints"
     latest = sorted(ckpt_dir.glob("model_*_steps.zip"), key=lambda p: int(p.stem.split("_")[-2])) if ckpt_dir.exists() else []

@@ -16,7 +16,7 @@ from pathlib import Path
 
 
 __all__ = ["PACKAGE_DIR", "DATA_DIR", "PRETRAINED_DIR", "HYPERPARAMS_DIR", "checkout_root", "require_checkout",
-           "runs_dir", "docs_dir", "TRAINED_DIR"]
+           "runs_dir", "docs_dir", "TRAINED_DIR", "start_bank_path"]
 
 PACKAGE_DIR = Path(__file__).resolve().parent
 DATA_DIR = PACKAGE_DIR / "data"
@@ -52,3 +52,8 @@ def runs_dir(*parts: str) -> Path:
 def docs_dir() -> Path:
     """The checkout's ``docs/`` (committed reports and results)."""
     return require_checkout("docs/", "--out") / "docs"
+
+
+def start_bank_path(tier: str) -> Path:
+    """The start bank shipped for ``tier`` (``train.py``'s default; it may not exist)."""
+    return DATA_DIR / f"start_bank_{tier}.npz"

@@ -219,7 +219,11 @@ def _train_measurement(spec: dict) -> dict:
     torch.set_num_threads(1)                     # as train.py
     algo = spec["kind"]
     timers = Timers()
-    env = train.make_env(n_envs=2, seed=0, episode_steps=EPISODE_STEPS, tier=DEFAULT_TIER)
+    # train.py's default start bank, in a tree that has one (older trees settle every start)
+    bank = (train.choose_start_bank("auto", DEFAULT_TIER, EPISODE_STEPS)
+            if hasattr(train, "choose_start_bank") else None)
+    env = train.make_env(n_envs=2, seed=0, episode_steps=EPISODE_STEPS, tier=DEFAULT_TIER,
+                         **({"start_bank": bank} if bank is not None else {}))
     timers.hook_vec_env(env)
     env = VecNormalize(env, norm_obs=True, norm_reward=True, clip_obs=10.0)
     try:
@@ -266,7 +270,8 @@ def _train_measurement(spec: dict) -> dict:
             "warmup_steps": int(n0), "load_1min_timed_start": load_start, "load_1min_timed_end": load_end,
             "timers_s": timed, "kernel_calls": calls, "features_s": feats,
             "shares": shares(wall, timers, feats, outside_split), "profile": profile,
-            "hyperparams": {k: repr(v) for k, v in hp.items()}}
+            "hyperparams": {k: repr(v) for k, v in hp.items()},
+            "start_bank": None if bank is None else str(bank)}
 
 
 def _eval_measurement(spec: dict) -> dict:

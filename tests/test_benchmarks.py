@@ -42,3 +42,18 @@ def test_run_all_quick_json_has_every_key_with_finite_values():
         assert all(math.isfinite(v) and v > 0 for v in run["peak_to_peak"].values())
     rss = out["details"]["rss"]
     assert rss["rss_start_mb"] > 0 and rss["rss_end_mb"] > 0
+
+
+@pytest.mark.slow
+def test_bench_reset_quick_json_reports_both_resets_in_env_steps():
+    """``benchmarks/bench_reset.py --quick --json``: every key, finite and positive; the price in
+    env steps is the reset time over the step time it reports (never a speed assertion)."""
+    r = subprocess.run([sys.executable, str(ROOT / "benchmarks" / "bench_reset.py"), "--quick", "--json"], cwd=ROOT,
+                       capture_output=True, text=True, timeout=900, env=dict(os.environ))
+    assert r.returncode == 0, r.stderr[-3000:]
+    out = json.loads(r.stdout)
+    for kind in ("settled", "banked"):
+        seconds, steps = out[f"reset_{kind}_s"], out[f"reset_{kind}_env_steps"]
+        assert math.isfinite(seconds) and seconds > 0 and math.isfinite(steps)
+        assert steps == pytest.approx(seconds / out["step_s"], rel=1e-12)
+    assert out["tier"] == "transient" and out["resets"] == 3 and out["machine"]["logical_cpus"] >= 1

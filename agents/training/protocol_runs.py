@@ -129,11 +129,13 @@ def run_summary(algo: str, seed: int, trained_dir: Path = TRAINED_DIR) -> str:
 
 def train_args(algo: str, seed: int, out: Path, budget: int = P.STEP_BUDGET_PER_RUN,
                threads: int | None = None) -> list[str]:
-    """train.py's arguments for one protocol run."""
+    """train.py's arguments for one protocol run (the frozen protocol draws every training start
+    afresh: no start bank)."""
     return ["--algo", algo, "--seed", str(seed), "--timesteps", str(budget), "--n-envs", "2",
             "--tier", DEFAULT_TIER, "--eval-episodes", "0",
             "--val-episodes", str(P.VALIDATION_EPISODES_IN_TRAINING), "--val-seed", str(P.VALIDATION.start),
-            "--eval-freq", str(P.VALIDATION_EVERY_STEPS), "--out", str(out), "--no-progress"] + (["--threads", str(threads)] if threads is not None else [])
+            "--eval-freq", str(P.VALIDATION_EVERY_STEPS), "--out", str(out), "--no-progress",
+            "--start-bank", "none"] + (["--threads", str(threads)] if threads is not None else [])
 
 
 def collect(src: Path, dst: Path) -> None:

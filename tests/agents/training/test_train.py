@@ -254,3 +254,62 @@ def test_a_start_bank_gives_training_its_scenarios_without_a_settle(tmp_path, mo
         train.make_env(2, 0, 150, "transient", start_bank=path)
     with pytest.raises(SystemExit, match="built for other env settings"):      # another control interval
         train.make_env(2, 0, 6, "transient", start_bank=other)
+
+
+def test_train_uses_the_shipped_start_bank_only_where_it_fits(tmp_path, monkeypatch, capsys):
+    """--start-bank auto: the tier's shipped bank when it exists and fits the run; otherwise it
+    says why and settles every start (no error); none never uses one; a named bank that does not
+    fit is an error."""
+    sys.path.insert(0, str(ROOT))
+    import train
+    from bearing_gym.envs import start_bank as banks
+    shipped = tmp_path / "start_bank_transient.npz"
+    monkeypatch.setattr(train, "start_bank_path", lambda tier: tmp_path / f"start_bank_{tier}.npz")
+    assert train.choose_start_bank("auto", "transient", 6) is None
+    assert "none shipped for tier transient" in capsys.readouterr().out
+    banks.build("transient", (21, 22), episode_steps=6).save(shipped)
+    assert train.choose_start_bank("auto", "transient", 6) == shipped
+    assert "2 settled starts of tier transient" in capsys.readouterr().out
+    assert train.choose_start_bank("none", "transient", 6) is None
+    # a bank for other episodes is passed over with the reason, not used and not fatal
+    assert train.choose_start_bank("auto", "transient", 150) is None
+    assert "not used" in capsys.readouterr().out
+    with pytest.raises(SystemExit, match="scenarios of 6-step episodes, this run's have 150"):
+        train.choose_start_bank(str(shipped), "transient", 150)
+
+
+def test_protocol_runs_train_without_a_start_bank():
+    """The frozen protocol draws every training start afresh."""
+    from agents.training.protocol_runs import train_args
+    args = train_args("sac", 0, Path("out"))
+    assert args[args.index("--start-bank") + 1] == "none"
+
+
+def test_the_shipped_start_bank_is_this_kernels_settles(monkeypatch):
+    """agents/data/start_bank_transient.npz (train.py's default): made by this kernel for the
+    default env (a kernel change without a rebuild fails here, naming the command), its first and
+    last starts equal a fresh settle bit for bit, and it holds more starts than a run of the
+    budget has episodes (none is met twice)."""
+    from collections import OrderedDict
+
+    from agents.paths import start_bank_path
+    from agents.protocol import STEP_BUDGET_PER_RUN
+    from bearing_gym.envs import BearingPreloadVectorEnv, core
+    from bearing_gym.envs import start_bank as banks
+    from bearing_gym.task import EPISODE_STEPS
+    sys.path.insert(0, str(ROOT))
+    import train
+    path = start_bank_path("transient")
+    bank = train.load_start_bank(path, "transient", EPISODE_STEPS)     # kernel, tier, horizon, env settings
+    assert len(bank) > STEP_BUDGET_PER_RUN / EPISODE_STEPS
+    assert len(set(bank.digests)) == len(bank)
+    monkeypatch.setattr(core, "_SETTLED", OrderedDict())
+    monkeypatch.setattr(core, "_BANKED", {})
+    venv = BearingPreloadVectorEnv(num_envs=2, tier="transient", max_episode_steps=None)
+    venv.reset(seed=[bank.seeds[0], bank.seeds[-1]])
+    for b, i in ((0, 0), (1, len(bank) - 1)):
+        digest, state = venv.batch.settled_state(b)
+        assert digest == bank.digests[i] and venv.batch.scenarios[b] == bank.scenarios[i]
+        for fresh, stored in zip(state, bank.states[digest]):
+            np.testing.assert_array_equal(fresh, stored)
+    assert banks.rebuild_command(bank.tier, bank.seeds, path).endswith(f"--seeds 0 1024 --out {path}")
