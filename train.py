@@ -19,8 +19,9 @@ last_model.zip and last_vec_normalize.pkl (the final weights), and leaderboard.m
 Training's settled starts come from the start bank shipped for the tier if there is one
 (agents/data/start_bank_<tier>.npz, --start-bank auto): each reset then copies a settled state
 (the same bits as settling it) instead of simulating 1.46 s, and training draws the bank's
-scenarios, each once before any repeats (a run of the budget meets none twice). --start-bank none
-draws every start afresh and settles it, as the frozen protocol's runs do.
+scenarios, each once before any repeats (a run of the budget meets none twice; --resume keeps the
+bank and continues its order). --start-bank none draws every start afresh and settles it, as the
+frozen protocol's runs do.
 
 It reports as it goes, in plain lines that read the same in a terminal and in a log file
 (``python train.py > train.log 2>&1``): whether the numba kernels are being compiled (a one-off),
@@ -77,13 +78,13 @@ def build_parser() -> argparse.ArgumentParser:
                     help="model.zip = the best validation checkpoint or the final weights")
     ap.add_argument("--checkpoint-freq", type=int, default=6000, help="checkpoint period in environment steps")
     ap.add_argument("--resume", action="store_true", help="continue from the newest checkpoint in --out")
-    ap.add_argument("--start-bank", metavar="NPZ|auto|none", default="auto",
+    ap.add_argument("--start-bank", metavar="NPZ|auto|none",
                     help="where training's settled starts come from. auto (default): the start bank shipped for "
                          "the tier (agents/data/start_bank_<tier>.npz) if there is one and this kernel made it, "
                          "else every start is settled; NPZ: that bank (python -m bearing_gym.envs.start_bank), "
                          "refused if it does not fit; none: settle every start. With a bank, training draws the "
                          "bank's scenarios (each once before any repeats) and each reset copies its settled start "
-                         "instead of simulating 1.46 s; validation is unchanged")
+                         "instead of simulating 1.46 s; validation is unchanged. --resume keeps the run's choice")
     ap.add_argument("--no-progress", action="store_true",
                     help="no progress bar: plain progress lines, as when the output is not a terminal")
     return ap
@@ -124,17 +125,17 @@ def load_start_bank(path: str | Path, tier: str, episode_steps: int):
     return bank
 
 
-def choose_start_bank(option: str | None, tier: str, episode_steps: int) -> Path | None:
-    """The bank ``--start-bank`` names (``auto``: the shipped one of the tier if it fits, else
-    None, saying why; ``none``: None; a path: that bank, SystemExit if it does not fit)."""
-    if option is None or option == "none":
+def choose_start_bank(option: str | None, tier: str, episode_steps: int):
+    """The bank ``--start-bank`` names (``auto`` or None: the shipped one of the tier if it fits,
+    else None, saying why; ``none``: None; a path: that bank, SystemExit if it does not fit), as a
+    loaded :class:`bearing_gym.envs.start_bank.StartBank` with its ``path``."""
+    if option == "none":
         return None
-    if option != "auto":
+    if option not in (None, "auto"):
         try:
-            load_start_bank(option, tier, episode_steps)
+            return load_start_bank(option, tier, episode_steps)
         except ValueError as err:
             raise SystemExit(f"train.py: --start-bank: {err}") from None
-        return Path(option)
     shipped = start_bank_path(tier)
     if not shipped.exists():
         print(f"start bank: none shipped for tier {tier}: every training start is settled (1.46 s simulated each)",
@@ -149,15 +150,24 @@ def choose_start_bank(option: str | None, tier: str, episode_steps: int) -> Path
     print(f"start bank: {shipped} ({len(bank)} settled starts of tier {tier}): training draws its scenarios, each "
           "once before any repeats, and a reset copies the start instead of settling it (--start-bank none: "
           "fresh draws, each settled)", flush=True)
-    return shipped
+    return bank
+
+
+def bank_draws_made(num_timesteps: int, n_envs: int, episode_steps: int) -> int:
+    """How many scenarios a run's training envs had drawn after ``num_timesteps`` env steps, every
+    episode running its ``episode_steps`` (the envs step in lockstep and reset as soon as an
+    episode ends, so each env has drawn one more than it has finished)."""
+    return n_envs * (num_timesteps // n_envs // episode_steps + 1)
 
 
 def make_env(n_envs: int, seed: int, episode_steps: int, tier: str, threads: int | None = None,
-             start_bank: str | Path | None = None):
+             start_bank=None, bank_draws_done: int = 0):
     """``n_envs`` environments stepped by one numba kernel on ``threads`` threads (default: one
     per env, at most numba's thread count - the cores, or ``NUMBA_NUM_THREADS`` if set); with
-    ``start_bank`` (a .npz of :mod:`bearing_gym.envs.start_bank`) they draw its scenarios and
-    copy its settled starts (SystemExit if the bank does not fit the run)."""
+    ``start_bank`` (a loaded bank, or the path of a .npz of :mod:`bearing_gym.envs.start_bank`:
+    SystemExit if it does not fit the run) they draw its scenarios, skipping the first
+    ``bank_draws_done`` of the order (a resumed run: those its earlier sessions drew), and copy
+    its settled starts."""
     import numba
     from stable_baselines3.common.vec_env import VecMonitor
 
@@ -165,16 +175,55 @@ def make_env(n_envs: int, seed: int, episode_steps: int, tier: str, threads: int
     extra = {}
     if start_bank is not None:
         from bearing_gym.envs import start_bank as banks
-        try:
-            bank = load_start_bank(start_bank, tier, episode_steps).install()
-        except ValueError as err:
-            raise SystemExit(f"train.py: --start-bank: {err}") from None
-        extra["scenario"] = banks.BankScenarios(bank)
+        if isinstance(start_bank, (str, Path)):
+            try:
+                start_bank = load_start_bank(start_bank, tier, episode_steps)
+            except ValueError as err:
+                raise SystemExit(f"train.py: --start-bank: {err}") from None
+        extra["scenario"] = banks.BankScenarios(start_bank.install(), skip=bank_draws_done)
     venv = BearingPreloadSB3VecEnv(num_envs=n_envs, tier=tier, episode_steps=episode_steps,
                                    max_episode_steps=episode_steps,
                                    num_threads=threads or min(n_envs, numba.config.NUMBA_NUM_THREADS), **extra)
     venv.seed(seed)
     return VecMonitor(venv)
+
+
+BANK_RECORD = "start_bank.json"
+
+
+def start_bank_for_run(args: argparse.Namespace, out: Path, resume_from: Path | None, n_val_envs: int):
+    """The start bank of this run and how many of its draws earlier sessions made. A new run
+    takes ``--start-bank`` (default auto) and records its choice in ``out/start_bank.json``; a
+    resumed run (``resume_from``: its newest checkpoint) keeps the recorded choice (another
+    ``--start-bank`` is refused) and skips the draws its checkpoint had made, so that it does not
+    train on those scenarios again. Sets ``args.start_bank`` to the bank's path (None: no bank)
+    for config.json."""
+    record = out / BANK_RECORD
+    before = json.loads(record.read_text()) if resume_from is not None and record.exists() else None
+    option = args.start_bank
+    if before is not None and option is None:
+        option = before["path"] or "none"
+    bank = choose_start_bank(option, args.tier, args.episode_steps)
+    path = None if bank is None else str(Path(option if option not in (None, "auto") else start_bank_path(args.tier)).resolve())
+    if before is not None and path != before["path"]:
+        raise SystemExit(f"train.py: --resume: this run trained with --start-bank {before['path'] or 'none'}, not "
+                         f"{path or 'none'}; leave --start-bank out to continue it, or start a new run in another --out")
+    if bank is not None:
+        overlap = set(range(args.val_seed, args.val_seed + n_val_envs)) & set(bank.seeds)
+        if overlap:
+            raise SystemExit(f"train.py: the validation seeds {args.val_seed}..{args.val_seed + n_val_envs - 1} include "
+                             f"{len(overlap)} of the start bank's training scenarios (seeds {bank.seeds[0]}.."
+                             f"{bank.seeds[-1]}); pick another --val-seed")
+        record.write_text(json.dumps({"path": path, "kernel_hash": bank.kernel_hash, "starts": len(bank),
+                                      "seeds": [bank.seeds[0], bank.seeds[-1]]}, indent=2))
+    else:
+        record.write_text(json.dumps({"path": None}, indent=2))
+    args.start_bank = path
+    draws = 0
+    if bank is not None and resume_from is not None:
+        draws = bank_draws_made(int(resume_from.stem.split("_")[-2]), args.n_envs, args.episode_steps)
+        print(f"start bank: resuming after {draws} of its {len(bank)} scenarios", flush=True)
+    return bank, draws
 
 
 def warm_up_kernels(n_envs: int) -> None:
@@ -266,12 +315,11 @@ def main(argv: list[str] | None = None) -> int:
           flush=True)
     warm_up_kernels(args.n_envs)
 
-    bank = choose_start_bank(args.start_bank, args.tier, args.episode_steps)
-    args.start_bank = None if bank is None else str(bank)      # config.json records the bank used
-    env = make_env(args.n_envs, args.seed, args.episode_steps, args.tier, args.threads, bank)
-    eval_env = make_env(n_val_envs, args.val_seed, args.episode_steps, args.tier, args.threads)
     ckpt_dir = out / "checkpoints"
     latest = sorted(ckpt_dir.glob("model_*_steps.zip"), key=lambda p: int(p.stem.split("_")[-2])) if ckpt_dir.exists() else []
+    bank, draws_done = start_bank_for_run(args, out, latest[-1] if args.resume and latest else None, n_val_envs)
+    env = make_env(args.n_envs, args.seed, args.episode_steps, args.tier, args.threads, bank, draws_done)
+    eval_env = make_env(n_val_envs, args.val_seed, args.episode_steps, args.tier, args.threads)
     if args.resume and latest:
         last = latest[-1]
         steps = last.stem.split("_")[-2]

@@ -11,9 +11,11 @@ them), on one env and one numba thread:
 ``reset_settled_s``
     median wall time of ``reset(seed=s)`` settling on the fly;
 ``reset_banked_s``
-    median wall time of ``reset(seed=s)`` for the same seeds once a bank of them is installed
-    (the bank is built in a separate interpreter, ``python -m bearing_gym.envs.start_bank``, so
-    this process has not settled them);
+    median wall time of ``reset(seed=s)`` for seeds whose starts a bank holds (built in a separate
+    interpreter, ``python -m bearing_gym.envs.start_bank``, so this process has not settled them:
+    the settled resets above use the next ``--resets`` seeds, as the in-process cache is looked
+    up before the bank); ``banked_resets_from_the_bank`` counts those whose settle key the bank
+    holds (all of them, or the figure is not a banked reset's);
 ``step_s``
     mean wall time of the env steps of those episodes (``--steps`` after each banked reset,
     action 0);
@@ -69,13 +71,14 @@ def measure(tier: str, resets: int, steps: int) -> dict:
         subprocess.run([sys.executable, "-m", "bearing_gym.envs.start_bank", "--tier", tier, "--seeds",
                         str(seeds[0]), str(seeds[-1] + 1), "--out", str(path)], check=True,
                        stdout=subprocess.DEVNULL)
-        start_bank.load(path).install()
-    banked, step_times = [], []
+        bank = start_bank.load(path).install()
+    banked, step_times, hits = [], [], 0
     a = np.zeros(1, dtype=np.float32)
     for s in seeds:
         t0 = time.perf_counter()
         env.reset(seed=s)
         banked.append(time.perf_counter() - t0)
+        hits += env.task.batch.settle_digest(0) in bank.states
         t0 = time.perf_counter()
         for _ in range(steps):
             env.step(a)
@@ -83,6 +86,7 @@ def measure(tier: str, resets: int, steps: int) -> dict:
     step_s = statistics.fmean(step_times)
     return {"tier": tier, "resets": resets, "steps_per_episode": steps,
             "reset_settled_s": statistics.median(settled), "reset_banked_s": statistics.median(banked),
+            "banked_resets_from_the_bank": hits,
             "step_s": step_s,
             "reset_settled_env_steps": statistics.median(settled) / step_s,
             "reset_banked_env_steps": statistics.median(banked) / step_s}

@@ -24,7 +24,7 @@ Measured (the current tree's best run; with a baseline also ``<key>_baseline`` a
     env steps per second of ``model.learn`` with what train.py builds: ``train.make_env(2, 0,
     EPISODE_STEPS, DEFAULT_TIER)`` (the registered env's tier and horizon; 2 envs stepped by the
     batched kernel on 2 numba threads; with the start bank ``train.choose_start_bank("auto", ...)``
-    picks, as train.py does, in a tree that has one - its path is in the JSON as ``start_bank``) in ``VecNormalize(norm_obs, norm_reward, clip_obs=10)``,
+    picks, as train.py does, in a tree that has one - its size is in the JSON as ``start_bank``) in ``VecNormalize(norm_obs, norm_reward, clip_obs=10)``,
     ``PPO``/``SAC("MlpPolicy", seed=0, device="cpu", **train.hyperparams(algo))``, tensorboard
     logging when tensorboard is installed, ``torch.set_num_threads(1)``. A warm-up
     ``learn(--warmup-steps)`` (kernel compile or cache load, first resets; for SAC it covers

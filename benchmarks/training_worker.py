@@ -271,7 +271,7 @@ def _train_measurement(spec: dict) -> dict:
             "timers_s": timed, "kernel_calls": calls, "features_s": feats,
             "shares": shares(wall, timers, feats, outside_split), "profile": profile,
             "hyperparams": {k: repr(v) for k, v in hp.items()},
-            "start_bank": None if bank is None else str(bank)}
+            "start_bank": None if bank is None else f"{len(bank)} settled starts of tier {bank.tier}"}
 
 
 def _eval_measurement(spec: dict) -> dict:

@@ -1,7 +1,7 @@
 """Start banks: settled starts computed once, so that a reset costs a copy, not a settle.
 
 A reset settles the rotor at the episode's initial operating point (1.46 s of simulated warm-up,
-:meth:`bearing_gym.envs.core.PreloadBatch.settle`): 40-90 env steps' worth of simulation, a third
+:meth:`bearing_gym.envs.core.PreloadBatch.settle`): 25-90 env steps' worth of simulation, a third
 of all the simulated time of training. A **start bank** holds, for a fixed list of scenarios (one
 per seed, drawn by a tier's own distribution), the state each settle ends in, and
 
@@ -126,15 +126,21 @@ def build(tier: str, seeds, batch_envs: int = 32, progress: bool = False, **env_
 
 
 def load(path: str | Path, check_kernel: bool = True) -> StartBank:
-    """The bank at ``path``; ValueError naming the rebuild command if another kernel made it."""
+    """The bank at ``path``; ValueError if it is not a readable bank, or naming the rebuild
+    command if another kernel made it (FileNotFoundError if there is none)."""
     path = Path(path)
-    with np.load(path, allow_pickle=False) as f:
-        meta = json.loads(str(f["meta"]))
-        if meta.get("format") != _FORMAT:
-            raise ValueError(f"{path}: start bank format {meta.get('format')}, this code reads {_FORMAT}")
-        fields = sorted((k for k in f.files if k.startswith("state_")), key=lambda k: int(k.split("_")[1]))
-        arrays = [f[k] for k in fields]
-    seeds = tuple(meta["seeds"])
+    try:
+        with np.load(path, allow_pickle=False) as f:
+            meta = json.loads(str(f["meta"]))
+            fields = sorted((k for k in f.files if k.startswith("state_")), key=lambda k: int(k.split("_")[1]))
+            arrays = [f[k] for k in fields]
+        seeds = tuple(meta["seeds"])
+    except FileNotFoundError:
+        raise
+    except Exception as err:              # not an .npz, truncated, no metadata
+        raise ValueError(f"{path} is not a readable start bank ({type(err).__name__}: {err})") from None
+    if meta.get("format") != _FORMAT:
+        raise ValueError(f"{path}: start bank format {meta.get('format')}, this code reads {_FORMAT}")
     if check_kernel:
         from .provenance import kernel_hash
         here = kernel_hash()
@@ -155,14 +161,21 @@ class BankScenarios:
     installed, every reset is a copy. Pinning options are refused (the bank's scenarios are fixed).
 
     The order is the part's, shared by the envs of a vector env in the order they reset; seeding
-    an env again does not restart it, and a resumed training run draws a new one (a finite
-    training set, each start once per pass - not one episode per seed)."""
+    an env again does not restart it (a finite training set, each start once per pass - not one
+    episode per seed). The first order depends only on the generator's seed, so a training run
+    resumed in a new process with the same seed passes ``skip`` = the draws its earlier sessions
+    made and continues where they stopped (``train.py --resume``); orders after the first are drawn
+    from the generator as it stands then."""
 
     bank: StartBank = dataclasses.field(repr=False, compare=False)
+    #: draws of the first order to pass over (made by an earlier session of the same run)
+    skip: int = 0
 
     def __post_init__(self) -> None:
         if not len(self.bank):
             raise ValueError("BankScenarios needs a start bank with at least one scenario")
+        if int(self.skip) != self.skip or self.skip < 0:
+            raise ValueError(f"BankScenarios skip must be a whole number >= 0 of draws, got {self.skip!r}")
         self._order: np.ndarray | None = None
         self._next = 0
 
@@ -170,9 +183,10 @@ class BankScenarios:
         if pinned:
             raise ValueError(f"a start bank's scenarios are fixed: reset options {sorted(pinned)} cannot pin them "
                              "(pass options={'scenario': Scenario(...)} for one of your own)")
-        if self._order is None or self._next >= len(self._order):
-            self._order = rng.permutation(len(self.bank))
-            self._next = 0
+        if self._order is None:
+            self._order, self._next = rng.permutation(len(self.bank)), int(self.skip)
+        while self._next >= len(self._order):
+            self._order, self._next = rng.permutation(len(self.bank)), self._next - len(self._order)
         i = int(self._order[self._next])
         self._next += 1
         return self.bank.scenarios[i]

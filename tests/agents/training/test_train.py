@@ -258,8 +258,8 @@ def test_a_start_bank_gives_training_its_scenarios_without_a_settle(tmp_path, mo
 
 def test_train_uses_the_shipped_start_bank_only_where_it_fits(tmp_path, monkeypatch, capsys):
     """--start-bank auto: the tier's shipped bank when it exists and fits the run; otherwise it
-    says why and settles every start (no error); none never uses one; a named bank that does not
-    fit is an error."""
+    says why and settles every start (no error, also for an unreadable file); none never uses one;
+    a named bank that does not fit is an error."""
     sys.path.insert(0, str(ROOT))
     import train
     from bearing_gym.envs import start_bank as banks
@@ -267,8 +267,12 @@ def test_train_uses_the_shipped_start_bank_only_where_it_fits(tmp_path, monkeypa
     monkeypatch.setattr(train, "start_bank_path", lambda tier: tmp_path / f"start_bank_{tier}.npz")
     assert train.choose_start_bank("auto", "transient", 6) is None
     assert "none shipped for tier transient" in capsys.readouterr().out
+    shipped.write_bytes(b"not a zip file")
+    assert train.choose_start_bank(None, "transient", 6) is None
+    assert "not a readable start bank" in capsys.readouterr().out
     banks.build("transient", (21, 22), episode_steps=6).save(shipped)
-    assert train.choose_start_bank("auto", "transient", 6) == shipped
+    bank = train.choose_start_bank("auto", "transient", 6)
+    assert bank is not None and bank.seeds == (21, 22)
     assert "2 settled starts of tier transient" in capsys.readouterr().out
     assert train.choose_start_bank("none", "transient", 6) is None
     # a bank for other episodes is passed over with the reason, not used and not fatal
@@ -276,6 +280,41 @@ def test_train_uses_the_shipped_start_bank_only_where_it_fits(tmp_path, monkeypa
     assert "not used" in capsys.readouterr().out
     with pytest.raises(SystemExit, match="scenarios of 6-step episodes, this run's have 150"):
         train.choose_start_bank(str(shipped), "transient", 150)
+
+
+def test_a_resumed_run_keeps_its_start_bank_and_draws_no_scenario_twice(tmp_path, monkeypatch, capsys):
+    """train.py with a bank records it (config.json, start_bank.json); --resume keeps it, refuses
+    another, and continues the bank's order after the draws its checkpoint had made: over two
+    sessions of 64 steps (2 envs, 16-step episodes: 6 draws each) the 12 scenarios of the bank are
+    each drawn once."""
+    sys.path.insert(0, str(ROOT))
+    import train
+    from bearing_gym.envs import start_bank as banks
+    path = banks.build("transient", tuple(range(31, 43)), episode_steps=16).save(tmp_path / "start_bank_transient.npz")
+    monkeypatch.setattr(train, "start_bank_path", lambda tier: path)
+    drawn: list = []
+    sample = banks.BankScenarios.sample
+    monkeypatch.setattr(banks.BankScenarios, "sample",
+                        lambda self, *a, **k: drawn.append(sample(self, *a, **k)) or drawn[-1])
+    out = tmp_path / "run"
+    common = ["--algo", "sac", "--n-envs", "2", "--episode-steps", "16", "--eval-episodes", "0", "--val-episodes", "2",
+              "--eval-freq", "64", "--checkpoint-freq", "32", "--out", str(out), "--no-progress"]
+    assert train.main(common + ["--timesteps", "64"]) == 0
+    cfg = json.loads((out / "config.json").read_text())
+    assert cfg["start_bank"] == str(path.resolve()) and cfg["num_timesteps"] == 64
+    assert json.loads((out / "start_bank.json").read_text())["starts"] == 12
+    first = list(drawn)
+    assert len(first) == train.bank_draws_made(64, 2, 16) == 6
+    with pytest.raises(SystemExit, match="trained with --start-bank .*start_bank_transient.npz, not none"):
+        train.main(common + ["--timesteps", "128", "--resume", "--start-bank", "none"])
+    drawn.clear()
+    capsys.readouterr()
+    assert train.main(common + ["--timesteps", "128", "--resume"]) == 0
+    assert "resuming after 6 of its 12 scenarios" in capsys.readouterr().out
+    bank = banks.load(path)
+    assert sorted(bank.scenarios.index(sc) for sc in first + drawn[:6]) == list(range(12))
+    with pytest.raises(SystemExit, match="validation seeds 31..32 include 2 of the start bank's"):
+        train.main(common + ["--timesteps", "64", "--out", str(tmp_path / "other"), "--val-seed", "31"])
 
 
 def test_protocol_runs_train_without_a_start_bank():
