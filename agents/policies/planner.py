@@ -18,6 +18,13 @@ Receding-horizon shooting on copies of the episode's env (``BearingPreloadVector
    strictly higher.
 3. The real env advances ``replan_every`` intervals along the incumbent.
 
+Wider searches, off by default (the plain search above is what the stored runs used):
+``block_levels_n`` (a block at any of these levels, then back to the incumbent),
+``decide_at_start`` (a decision at t = 0 too: blocks at the start), ``passes`` (sweep the
+decisions again from t = 0 with the plan the last pass left) and a warm start (``warm_plan_n``:
+a plan found before is the incumbent if it beats the hindsight constant). Each only adds
+candidates that must beat the incumbent, so none can end below the plain search's plan.
+
 The episode is deterministic (the scenario comes from the seed; observation noise does not touch
 the reward), so the real env's return equals the incumbent's, which never decreases: **the
 planner never ends below the hindsight best constant** (checked on every run). Cost per
@@ -60,14 +67,32 @@ class PlannerSettings:
     local_n: tuple[float, ...] = (-100.0, -50.0, 50.0, 100.0)       # new level held from t, around the incumbent
     block_n: tuple[float, ...] = (-50.0, 50.0)                      # one block, then back to the incumbent
     jumps_n: tuple[float, ...] = (300.0, 700.0, 1100.0, 1500.0, 1900.0)   # new level held from t, anywhere
+    #: one block at each of these levels, then back to the incumbent (a temporary change anywhere)
+    block_levels_n: tuple[float, ...] = ()
+    #: also decide at t = 0 (blocks at the start: e.g. a ramp from the initial preload)
+    decide_at_start: bool = False
+    #: sweeps of the decisions over the episode; each later one starts from the plan the last left
+    passes: int = 1
 
     def __post_init__(self):
-        if isinstance(self.replan_every, bool) or not isinstance(self.replan_every, int) or self.replan_every < 1:
-            raise ValueError(f"replan_every must be an integer >= 1, got {self.replan_every!r}")
+        for name in ("replan_every", "passes"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, int) or v < 1:
+                raise ValueError(f"{name} must be an integer >= 1, got {v!r}")
 
     def as_dict(self) -> dict[str, Any]:
-        return {"replan_every": self.replan_every, "grid_step_n": self.grid_step_n, "local_n": list(self.local_n),
-                "block_n": list(self.block_n), "jumps_n": list(self.jumps_n)}
+        """The settings as stored with each run (the searches added later only where they are on,
+        so a run stored before them keeps its settings)."""
+        out: dict[str, Any] = {"replan_every": self.replan_every, "grid_step_n": self.grid_step_n,
+                               "local_n": list(self.local_n), "block_n": list(self.block_n),
+                               "jumps_n": list(self.jumps_n)}
+        if self.block_levels_n:
+            out["block_levels_n"] = list(self.block_levels_n)
+        if self.decide_at_start:
+            out["decide_at_start"] = True
+        if self.passes != 1:
+            out["passes"] = self.passes
+        return out
 
 
 @dataclass
@@ -126,6 +151,10 @@ class _Episode:
         self.costs_only = type(self.venv.reward_model) is VibrationFirstReward
         a = self.venv.actuator
         self._lo, self._hi = float(a.min_preload_n), float(a.max_preload_n)
+
+    def restart(self, seed: int) -> None:
+        """Every env back to the episode's settled start (the same bits: the settle is cached)."""
+        self.venv.reset(seed=[seed] * self.venv.num_envs)
 
     def action(self, preload_n: np.ndarray) -> np.ndarray:
         """Set-points -> actions exactly as the constant-preload policy maps them (float32)."""
@@ -204,21 +233,29 @@ def _candidates(plan: np.ndarray, t: int, s: PlannerSettings, ep: _Episode) -> l
             p = plan.copy()
             p[t:] = v
             add(p)
+    for v in s.block_levels_n:
+        if ep.in_range(v):
+            p = plan.copy()
+            p[t:t + s.replan_every] = v
+            add(p)
     return out
 
 
 def plan_episode(tier: str, seed: int, episode_steps: int = EPISODE_STEPS,
                  settings: PlannerSettings = PlannerSettings(), env_kwargs: dict | None = None,
-                 hindsight: tuple[float, float] | None = None, prune: bool = True) -> PlanResult:
+                 hindsight: tuple[float, float] | None = None, prune: bool = True,
+                 warm_plan_n: np.ndarray | None = None) -> PlanResult:
     """Plan one episode (module docstring); deterministic. ``hindsight`` = (the hindsight best
     constant, its return) from a stored sweep of the same grid on this episode replaces step 1
     (a third of the cost); the run then checks it: with no change accepted, the real episode
     must return the stored return bit for bit. ``prune`` stops candidate rollouts that can no
-    longer win (:meth:`_Episode.rollouts`; the same plan, fewer env steps)."""
+    longer win (:meth:`_Episode.rollouts`; the same plan, fewer env steps). ``warm_plan_n`` (a
+    plan found before, e.g. by other settings) is rolled out from t = 0 and becomes the incumbent
+    if it returns more than the hindsight constant: the search goes on from there."""
     t_start = time.perf_counter()
     s = settings
     grid = preload_grid(s.grid_step_n)
-    local = len(s.local_n) + len(s.block_n) + len(s.jumps_n)
+    local = len(s.local_n) + len(s.block_n) + len(s.jumps_n) + len(s.block_levels_n)   # candidates at most
     T = episode_steps
     source = "sweep" if hindsight is None else "stored"
     if hindsight is None:
@@ -236,25 +273,35 @@ def plan_episode(tier: str, seed: int, episode_steps: int = EPISODE_STEPS,
         hindsight = (float(hindsight[0]), float(hindsight[1]))
     plan = np.full(T, hindsight[0])
     incumbent = hindsight[1]
-    # 2-3. decisions along the incumbent's course
-    prefix: list[float] = []
+    if warm_plan_n is not None:
+        warm = np.asarray(warm_plan_n, dtype=float)
+        if warm.shape != (T,) or not all(ep.in_range(float(v)) for v in warm):
+            raise ValueError(f"planner: a warm plan needs {T} set-points inside the actuator's range, got {warm.shape}")
+        total = _sequential_sum(ep.rollouts([warm], 0)[0])
+        if total > incumbent:
+            plan, incumbent = warm.copy(), total
+    # 2-3. decisions along the incumbent's course, ``passes`` times
     decisions = accepted = 0
-    ended = False
-    for t in range(0, T, s.replan_every):
-        if t > 0:
-            cands = _candidates(plan, t, s, ep)
-            decisions += 1
-            changed = False
-            bound = (_sequential_sum(prefix), incumbent) if prune else None
-            for cand, rw in zip(cands, ep.rollouts(cands, t, bound) if cands else []):
-                total = _sequential_sum(prefix + rw)
-                if total > incumbent:
-                    plan, incumbent, changed = cand, total, True
-            accepted += changed
-        rewards, ended = ep.advance(plan, t, min(t + s.replan_every, T))
-        prefix += rewards
-        if ended:
-            break
+    for sweep_k in range(s.passes):
+        if sweep_k > 0:
+            ep.restart(seed)
+        prefix: list[float] = []
+        ended = False
+        for t in range(0, T, s.replan_every):
+            if t > 0 or s.decide_at_start:
+                cands = _candidates(plan, t, s, ep)
+                decisions += 1
+                changed = False
+                bound = (_sequential_sum(prefix), incumbent) if prune else None
+                for cand, rw in zip(cands, ep.rollouts(cands, t, bound) if cands else []):
+                    total = _sequential_sum(prefix + rw)
+                    if total > incumbent:
+                        plan, incumbent, changed = cand, total, True
+                accepted += changed
+            rewards, ended = ep.advance(plan, t, min(t + s.replan_every, T))
+            prefix += rewards
+            if ended:
+                break
     real = _sequential_sum(prefix)
     if real != incumbent and source == "stored" and not accepted:
         raise RuntimeError(f"planner, tier {tier} seed {seed}: the hindsight constant {hindsight[0]:.0f} N returned "

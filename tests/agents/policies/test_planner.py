@@ -63,3 +63,28 @@ def test_pruning_changes_no_decision_only_the_cost():
     pruned = plan_episode("transient", 300016, episode_steps=40, settings=SMALL)
     assert pruned.return_ == full.return_ and np.array_equal(pruned.plan_n, full.plan_n)
     assert pruned.accepted == full.accepted and pruned.env_steps < full.env_steps
+
+
+def test_the_wider_search_only_adds_to_the_plain_one():
+    """The searches added for a tighter bound (block levels, a decision at t = 0, a second pass, a
+    warm start from a plan found before) are off by default and leave the stored settings of the
+    plain planner as they were; switched on, the plan never returns less than the plain one's
+    (every candidate is accepted only if it improves on the incumbent, and the first pass is the
+    plain search) and replays bit for bit; a warm plan is the incumbent when it is better."""
+    assert set(PlannerSettings().as_dict()) == {"replan_every", "grid_step_n", "local_n", "block_n", "jumps_n"}
+    tier, seed = "transient", 300016
+    plain = plan_episode(tier, seed, episode_steps=STEPS, settings=SMALL)
+    wide_s = PlannerSettings(replan_every=4, grid_step_n=425.0, local_n=(-100.0, 100.0), block_n=(50.0,),
+                             jumps_n=(300.0, 2000.0), block_levels_n=(300.0, 1150.0, 2000.0),
+                             decide_at_start=True, passes=2)
+    assert wide_s.as_dict()["passes"] == 2 and wide_s.as_dict()["decide_at_start"]
+    wide = plan_episode(tier, seed, episode_steps=STEPS, settings=wide_s)
+    assert wide.return_ >= plain.return_ and wide.decisions == 2 * len(range(0, STEPS, 4))
+    replay = run_policies([ScheduledPreload([wide.plan_n])], 1, seed, STEPS, env_kwargs={"tier": tier})[0]
+    assert replay.returns[0] == wide.return_
+    warm = plan_episode(tier, seed, episode_steps=STEPS, settings=SMALL, warm_plan_n=wide.plan_n)
+    assert warm.return_ >= wide.return_
+    with pytest.raises(ValueError, match="passes"):
+        PlannerSettings(passes=0)
+    with pytest.raises(ValueError, match="warm plan needs 12 set-points"):
+        plan_episode(tier, seed, episode_steps=STEPS, settings=SMALL, warm_plan_n=np.full(5, 1000.0))
