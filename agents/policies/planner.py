@@ -20,7 +20,8 @@ Receding-horizon shooting on copies of the episode's env (``BearingPreloadVector
 
 Wider searches, off by default (the plain search above is what the stored runs used):
 ``block_levels_n`` (a block at any of these levels, then back to the incumbent),
-``decide_at_start`` (a decision at t = 0 too: blocks at the start), ``passes`` (sweep the
+``decide_at_start`` (a decision at t = 0 too: blocks at the start, and with
+``start_hold_intervals`` the initial preload held for a few intervals first), ``passes`` (sweep the
 decisions again from t = 0 with the plan the last pass left) and a warm start (``warm_plan_n``:
 a plan found before is the incumbent if it beats the hindsight constant). Each only adds
 candidates that must beat the incumbent, so none can end below the plain search's plan.
@@ -73,6 +74,9 @@ class PlannerSettings:
     decide_at_start: bool = False
     #: sweeps of the decisions over the episode; each later one starts from the plan the last left
     passes: int = 1
+    #: with ``decide_at_start``: hold the episode's initial preload for each of these numbers of
+    #: intervals, then the incumbent (a slow way down from the start, which a sudden one can ring)
+    start_hold_intervals: tuple[int, ...] = ()
 
     def __post_init__(self):
         for name in ("replan_every", "passes"):
@@ -92,6 +96,8 @@ class PlannerSettings:
             out["decide_at_start"] = True
         if self.passes != 1:
             out["passes"] = self.passes
+        if self.start_hold_intervals:
+            out["start_hold_intervals"] = list(self.start_hold_intervals)
         return out
 
 
@@ -151,6 +157,7 @@ class _Episode:
         self.costs_only = type(self.venv.reward_model) is VibrationFirstReward
         a = self.venv.actuator
         self._lo, self._hi = float(a.min_preload_n), float(a.max_preload_n)
+        self.initial_preload_n = float(self.venv.batch.scenarios[0].initial_preload_n)
 
     def restart(self, seed: int) -> None:
         """Every env back to the episode's settled start (the same bits: the settle is cached)."""
@@ -237,6 +244,12 @@ def _candidates(plan: np.ndarray, t: int, s: PlannerSettings, ep: _Episode) -> l
         if ep.in_range(v):
             p = plan.copy()
             p[t:t + s.replan_every] = v
+            add(p)
+    if t == 0:
+        start = ep.initial_preload_n
+        for k in s.start_hold_intervals:
+            p = plan.copy()
+            p[:k] = start
             add(p)
     return out
 
