@@ -268,7 +268,8 @@ def plan_episode(tier: str, seed: int, episode_steps: int = EPISODE_STEPS,
     t_start = time.perf_counter()
     s = settings
     grid = preload_grid(s.grid_step_n)
-    local = len(s.local_n) + len(s.block_n) + len(s.jumps_n) + len(s.block_levels_n)   # candidates at most
+    local = (len(s.local_n) + len(s.block_n) + len(s.jumps_n) + len(s.block_levels_n)   # candidates at most
+             + len(s.start_hold_intervals))
     T = episode_steps
     source = "sweep" if hindsight is None else "stored"
     if hindsight is None:
