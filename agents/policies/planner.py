@@ -21,7 +21,8 @@ Receding-horizon shooting on copies of the episode's env (``BearingPreloadVector
 Wider searches, off by default (the plain search above is what the stored runs used):
 ``block_levels_n`` (a block at any of these levels, then back to the incumbent),
 ``decide_at_start`` (a decision at t = 0 too: blocks at the start, and with
-``start_hold_intervals`` the initial preload held for a few intervals first), ``passes`` (sweep the
+``start_hold_intervals`` the initial preload held for a few intervals first), ``beam_starts_n``
+(the whole search again from other constants, the best plan kept), ``passes`` (sweep the
 decisions again from t = 0 with the plan the last pass left) and a warm start (``warm_plan_n``:
 a plan found before is the incumbent if it beats the hindsight constant). Each only adds
 candidates that must beat the incumbent, so none can end below the plain search's plan.
@@ -77,6 +78,9 @@ class PlannerSettings:
     #: with ``decide_at_start``: hold the episode's initial preload for each of these numbers of
     #: intervals, then the incumbent (a slow way down from the start, which a sudden one can ring)
     start_hold_intervals: tuple[int, ...] = ()
+    #: run the whole search again from each of these constants too; the best plan wins (a search
+    #: from the hindsight constant alone stays near it)
+    beam_starts_n: tuple[float, ...] = ()
 
     def __post_init__(self):
         for name in ("replan_every", "passes"):
@@ -98,6 +102,8 @@ class PlannerSettings:
             out["passes"] = self.passes
         if self.start_hold_intervals:
             out["start_hold_intervals"] = list(self.start_hold_intervals)
+        if self.beam_starts_n:
+            out["beam_starts_n"] = list(self.beam_starts_n)
         return out
 
 
@@ -295,34 +301,48 @@ def plan_episode(tier: str, seed: int, episode_steps: int = EPISODE_STEPS,
         if total > incumbent:
             plan, incumbent = warm.copy(), total
     # 2-3. decisions along the incumbent's course, ``passes`` times
-    decisions = accepted = 0
-    for sweep_k in range(s.passes):
-        if sweep_k > 0:
-            ep.restart(seed)
-        prefix: list[float] = []
-        ended = False
-        for t in range(0, T, s.replan_every):
-            if t > 0 or s.decide_at_start:
-                cands = _candidates(plan, t, s, ep)
-                decisions += 1
-                changed = False
-                bound = (_sequential_sum(prefix), incumbent) if prune else None
-                for cand, rw in zip(cands, ep.rollouts(cands, t, bound) if cands else []):
-                    total = _sequential_sum(prefix + rw)
-                    if total > incumbent:
-                        plan, incumbent, changed = cand, total, True
-                accepted += changed
-            rewards, ended = ep.advance(plan, t, min(t + s.replan_every, T))
-            prefix += rewards
-            if ended:
-                break
-    real = _sequential_sum(prefix)
-    if real != incumbent and source == "stored" and not accepted:
-        raise RuntimeError(f"planner, tier {tier} seed {seed}: the hindsight constant {hindsight[0]:.0f} N returned "
-                           f"{real!r}, the stored sweep {hindsight[1]!r}: the stored sweep is stale")
-    if real != incumbent:
-        raise RuntimeError(f"planner, tier {tier} seed {seed}: the real episode returned {real!r}, its plan's rollout "
-                           f"{incumbent!r}; the episode is not deterministic (a copy differs from its source)")
+    counts = [0, 0]                       # decisions, those that changed the plan
+
+    def search(plan: np.ndarray, incumbent: float, restart: bool) -> tuple[np.ndarray, float, float, bool]:
+        for sweep_k in range(s.passes):
+            if restart or sweep_k > 0:
+                ep.restart(seed)
+            prefix: list[float] = []
+            ended = False
+            for t in range(0, T, s.replan_every):
+                if t > 0 or s.decide_at_start:
+                    cands = _candidates(plan, t, s, ep)
+                    counts[0] += 1
+                    changed = False
+                    bound = (_sequential_sum(prefix), incumbent) if prune else None
+                    for cand, rw in zip(cands, ep.rollouts(cands, t, bound) if cands else []):
+                        total = _sequential_sum(prefix + rw)
+                        if total > incumbent:
+                            plan, incumbent, changed = cand, total, True
+                    counts[1] += changed
+                rewards, ended = ep.advance(plan, t, min(t + s.replan_every, T))
+                prefix += rewards
+                if ended:
+                    break
+        real = _sequential_sum(prefix)
+        if real != incumbent and source == "stored" and not counts[1]:
+            raise RuntimeError(f"planner, tier {tier} seed {seed}: the hindsight constant {hindsight[0]:.0f} N returned "
+                               f"{real!r}, the stored sweep {hindsight[1]!r}: the stored sweep is stale")
+        if real != incumbent:
+            raise RuntimeError(f"planner, tier {tier} seed {seed}: the real episode returned {real!r}, its plan's "
+                               f"rollout {incumbent!r}; the episode is not deterministic (a copy differs from its source)")
+        return plan, incumbent, real, ended
+
+    plan, incumbent, real, ended = search(plan, incumbent, restart=False)
+    for v in s.beam_starts_n:             # the same search from other constants; the best plan wins
+        if not ep.in_range(v):
+            continue
+        ep.restart(seed)
+        start = np.full(T, float(v))
+        other = search(start, _sequential_sum(ep.rollouts([start], 0)[0]), restart=True)
+        if other[1] > incumbent:
+            plan, incumbent, real, ended = other
+    decisions, accepted = counts
     return PlanResult(seed, plan, real, hindsight[0], hindsight[1], decisions, accepted, ep.steps,
                       time.perf_counter() - t_start, ended, s.as_dict(), source)
 

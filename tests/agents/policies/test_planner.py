@@ -76,10 +76,11 @@ def test_the_wider_search_only_adds_to_the_plain_one():
     plain = plan_episode(tier, seed, episode_steps=STEPS, settings=SMALL)
     wide_s = PlannerSettings(replan_every=4, grid_step_n=425.0, local_n=(-100.0, 100.0), block_n=(50.0,),
                              jumps_n=(300.0, 2000.0), block_levels_n=(300.0, 1150.0, 2000.0),
-                             decide_at_start=True, passes=2, start_hold_intervals=(1, 2, 3))
+                             decide_at_start=True, passes=2, start_hold_intervals=(1, 2, 3),
+                             beam_starts_n=(2000.0,))
     assert wide_s.as_dict()["passes"] == 2 and wide_s.as_dict()["start_hold_intervals"] == [1, 2, 3]
     wide = plan_episode(tier, seed, episode_steps=STEPS, settings=wide_s)
-    assert wide.return_ >= plain.return_ and wide.decisions == 2 * len(range(0, STEPS, 4))
+    assert wide.return_ >= plain.return_ and wide.decisions == 2 * 2 * len(range(0, STEPS, 4))   # 2 starts x 2 passes
     replay = run_policies([ScheduledPreload([wide.plan_n])], 1, seed, STEPS, env_kwargs={"tier": tier})[0]
     assert replay.returns[0] == wide.return_
     warm = plan_episode(tier, seed, episode_steps=STEPS, settings=SMALL, warm_plan_n=wide.plan_n)
