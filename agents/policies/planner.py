@@ -21,7 +21,7 @@ Receding-horizon shooting on copies of the episode's env (``BearingPreloadVector
 Wider searches, off by default (the plain search above is what the stored runs used):
 ``block_levels_n`` (a block at any of these levels, then back to the incumbent),
 ``decide_at_start`` (a decision at t = 0 too: blocks at the start, and with
-``start_hold_intervals`` the initial preload held for a few intervals first), ``beam_starts_n``
+``start_ramp_intervals`` a ramp from the initial preload over the first intervals), ``beam_starts_n``
 (the whole search again from other constants, the best plan kept), ``passes`` (sweep the
 decisions again from t = 0 with the plan the last pass left) and a warm start (``warm_plan_n``:
 a plan found before is the incumbent if it beats the hindsight constant). Each only adds
@@ -75,9 +75,10 @@ class PlannerSettings:
     decide_at_start: bool = False
     #: sweeps of the decisions over the episode; each later one starts from the plan the last left
     passes: int = 1
-    #: with ``decide_at_start``: hold the episode's initial preload for each of these numbers of
-    #: intervals, then the incumbent (a slow way down from the start, which a sudden one can ring)
-    start_hold_intervals: tuple[int, ...] = ()
+    #: with ``decide_at_start``: ramp linearly from the episode's initial preload to the
+    #: incumbent's set-point over each of these numbers of intervals (a slow way from the start:
+    #: a sudden one can ring the rotor quasi-periodic)
+    start_ramp_intervals: tuple[int, ...] = ()
     #: run the whole search again from each of these constants too; the best plan wins (a search
     #: from the hindsight constant alone stays near it)
     beam_starts_n: tuple[float, ...] = ()
@@ -100,8 +101,8 @@ class PlannerSettings:
             out["decide_at_start"] = True
         if self.passes != 1:
             out["passes"] = self.passes
-        if self.start_hold_intervals:
-            out["start_hold_intervals"] = list(self.start_hold_intervals)
+        if self.start_ramp_intervals:
+            out["start_ramp_intervals"] = list(self.start_ramp_intervals)
         if self.beam_starts_n:
             out["beam_starts_n"] = list(self.beam_starts_n)
         return out
@@ -253,10 +254,11 @@ def _candidates(plan: np.ndarray, t: int, s: PlannerSettings, ep: _Episode) -> l
             add(p)
     if t == 0:
         start = ep.initial_preload_n
-        for k in s.start_hold_intervals:
-            p = plan.copy()
-            p[:k] = start
-            add(p)
+        for k in s.start_ramp_intervals:
+            if 1 <= k < len(plan):
+                p = plan.copy()
+                p[:k] = start + (plan[k] - start) * np.arange(1, k + 1) / (k + 1)
+                add(p)
     return out
 
 
@@ -275,7 +277,7 @@ def plan_episode(tier: str, seed: int, episode_steps: int = EPISODE_STEPS,
     s = settings
     grid = preload_grid(s.grid_step_n)
     local = (len(s.local_n) + len(s.block_n) + len(s.jumps_n) + len(s.block_levels_n)   # candidates at most
-             + len(s.start_hold_intervals))
+             + len(s.start_ramp_intervals))
     T = episode_steps
     source = "sweep" if hindsight is None else "stored"
     if hindsight is None:

@@ -66,8 +66,8 @@ def test_pruning_changes_no_decision_only_the_cost():
 
 
 def test_the_wider_search_only_adds_to_the_plain_one():
-    """The searches added for a tighter bound (block levels, a decision at t = 0 with the initial
-    preload held first, a second pass, a warm start from a plan found before) are off by default and leave the stored settings of the
+    """The searches added for a tighter bound (block levels, a decision at t = 0 with ramps from the
+    initial preload, a second pass, a warm start from a plan found before) are off by default and leave the stored settings of the
     plain planner as they were; switched on, the plan never returns less than the plain one's
     (every candidate is accepted only if it improves on the incumbent, and the first pass is the
     plain search) and replays bit for bit; a warm plan is the incumbent when it is better."""
@@ -76,9 +76,9 @@ def test_the_wider_search_only_adds_to_the_plain_one():
     plain = plan_episode(tier, seed, episode_steps=STEPS, settings=SMALL)
     wide_s = PlannerSettings(replan_every=4, grid_step_n=425.0, local_n=(-100.0, 100.0), block_n=(50.0,),
                              jumps_n=(300.0, 2000.0), block_levels_n=(300.0, 1150.0, 2000.0),
-                             decide_at_start=True, passes=2, start_hold_intervals=(1, 2, 3),
+                             decide_at_start=True, passes=2, start_ramp_intervals=(1, 2, 3),
                              beam_starts_n=(2000.0,))
-    assert wide_s.as_dict()["passes"] == 2 and wide_s.as_dict()["start_hold_intervals"] == [1, 2, 3]
+    assert wide_s.as_dict()["passes"] == 2 and wide_s.as_dict()["start_ramp_intervals"] == [1, 2, 3]
     wide = plan_episode(tier, seed, episode_steps=STEPS, settings=wide_s)
     assert wide.return_ >= plain.return_ and wide.decisions == 2 * 2 * len(range(0, STEPS, 4))   # 2 starts x 2 passes
     replay = run_policies([ScheduledPreload([wide.plan_n])], 1, seed, STEPS, env_kwargs={"tier": tier})[0]
