@@ -191,20 +191,25 @@ def make_env(n_envs: int, seed: int, episode_steps: int, tier: str, threads: int
 BANK_RECORD = "start_bank.json"
 
 
-def start_bank_for_run(args: argparse.Namespace, out: Path, resume_from: Path | None, n_val_envs: int):
+def checkpoint_steps(path: Path) -> int:
+    """The env steps of a CheckpointCallback file (``model_<steps>_steps.zip``)."""
+    return int(path.stem.split("_")[-2])
+
+
+def start_bank_for_run(args: argparse.Namespace, out: Path, resume_steps: int | None, n_val_envs: int):
     """The start bank of this run and how many of its draws earlier sessions made. A new run
     takes ``--start-bank`` (default auto) and records its choice in ``out/start_bank.json``; a
-    resumed run (``resume_from``: its newest checkpoint) keeps the recorded choice (another
+    resumed run (``resume_steps``: the env steps of its newest checkpoint) keeps the recorded choice (another
     ``--start-bank`` is refused) and skips the draws its checkpoint had made, so that it does not
     train on those scenarios again. Sets ``args.start_bank`` to the bank's path (None: no bank)
     for config.json."""
     record = out / BANK_RECORD
-    before = json.loads(record.read_text()) if resume_from is not None and record.exists() else None
+    before = json.loads(record.read_text()) if resume_steps is not None and record.exists() else None
     option = args.start_bank
     if before is not None and option is None:
         option = before["path"] or "none"
     bank = choose_start_bank(option, args.tier, args.episode_steps)
-    path = None if bank is None else str(Path(option if option not in (None, "auto") else start_bank_path(args.tier)).resolve())
+    path = None if bank is None else str(bank.path.resolve())
     if before is not None and path != before["path"]:
         raise SystemExit(f"train.py: --resume: this run trained with --start-bank {before['path'] or 'none'}, not "
                          f"{path or 'none'}; leave --start-bank out to continue it, or start a new run in another --out")
@@ -220,8 +225,8 @@ def start_bank_for_run(args: argparse.Namespace, out: Path, resume_from: Path | 
         record.write_text(json.dumps({"path": None}, indent=2))
     args.start_bank = path
     draws = 0
-    if bank is not None and resume_from is not None:
-        draws = bank_draws_made(int(resume_from.stem.split("_")[-2]), args.n_envs, args.episode_steps)
+    if bank is not None and resume_steps is not None:
+        draws = bank_draws_made(resume_steps, args.n_envs, args.episode_steps)
         print(f"start bank: resuming after {draws} of its {len(bank)} scenarios", flush=True)
     return bank, draws
 
@@ -316,13 +321,14 @@ def main(argv: list[str] | None = None) -> int:
     warm_up_kernels(args.n_envs)
 
     ckpt_dir = out / "checkpoints"
-    latest = sorted(ckpt_dir.glob("model_*_steps.zip"), key=lambda p: int(p.stem.split("_")[-2])) if ckpt_dir.exists() else []
-    bank, draws_done = start_bank_for_run(args, out, latest[-1] if args.resume and latest else None, n_val_envs)
+    latest = sorted(ckpt_dir.glob("model_*_steps.zip"), key=checkpoint_steps) if ckpt_dir.exists() else []
+    bank, draws_done = start_bank_for_run(args, out, checkpoint_steps(latest[-1]) if args.resume and latest else None,
+                                          n_val_envs)
     env = make_env(args.n_envs, args.seed, args.episode_steps, args.tier, args.threads, bank, draws_done)
     eval_env = make_env(n_val_envs, args.val_seed, args.episode_steps, args.tier, args.threads)
     if args.resume and latest:
         last = latest[-1]
-        steps = last.stem.split("_")[-2]
+        steps = checkpoint_steps(last)
         env = VecNormalize.load(str(ckpt_dir / f"model_vecnormalize_{steps}_steps.pkl"), env)
         model = algo_cls.load(last, env=env, device="cpu")
         print(f"resuming from {last} ({steps} steps)")

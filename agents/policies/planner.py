@@ -305,9 +305,10 @@ def plan_episode(tier: str, seed: int, episode_steps: int = EPISODE_STEPS,
     # 2-3. decisions along the incumbent's course, ``passes`` times
     counts = [0, 0]                       # decisions, those that changed the plan
 
-    def search(plan: np.ndarray, incumbent: float, restart: bool) -> tuple[np.ndarray, float, float, bool]:
+    def search(plan: np.ndarray, incumbent: float) -> tuple[np.ndarray, float, float, bool]:
+        """The decisions from the real env at t = 0 (env 0 must stand there)."""
         for sweep_k in range(s.passes):
-            if restart or sweep_k > 0:
+            if sweep_k > 0:
                 ep.restart(seed)
             prefix: list[float] = []
             ended = False
@@ -335,13 +336,13 @@ def plan_episode(tier: str, seed: int, episode_steps: int = EPISODE_STEPS,
                                f"rollout {incumbent!r}; the episode is not deterministic (a copy differs from its source)")
         return plan, incumbent, real, ended
 
-    plan, incumbent, real, ended = search(plan, incumbent, restart=False)
+    plan, incumbent, real, ended = search(plan, incumbent)
     for v in s.beam_starts_n:             # the same search from other constants; the best plan wins
         if not ep.in_range(v):
             continue
-        ep.restart(seed)
+        ep.restart(seed)                  # rollouts step copies only: env 0 stays at t = 0 for search
         start = np.full(T, float(v))
-        other = search(start, _sequential_sum(ep.rollouts([start], 0)[0]), restart=True)
+        other = search(start, _sequential_sum(ep.rollouts([start], 0)[0]))
         if other[1] > incumbent:
             plan, incumbent, real, ended = other
     decisions, accepted = counts

@@ -51,6 +51,8 @@ class StartBank:
     states: dict[str, tuple[np.ndarray, ...]] = dataclasses.field(repr=False)
     kernel_hash: str = ""
     env_kwargs: dict[str, Any] = dataclasses.field(default_factory=dict)
+    #: the file it was loaded from (None: built in this process)
+    path: Path | None = None
 
     def __len__(self) -> int:
         return len(self.scenarios)
@@ -151,7 +153,7 @@ def load(path: str | Path, check_kernel: bool = True) -> StartBank:
     digests = tuple(meta["digests"])
     states = {d: tuple(a[i].copy() for a in arrays) for i, d in enumerate(digests)}
     return StartBank(meta["tier"], seeds, tuple(_scenario_from_json(d) for d in meta["scenarios"]), digests, states,
-                     meta["kernel_hash"], dict(meta["env_kwargs"]))
+                     meta["kernel_hash"], dict(meta["env_kwargs"]), path)
 
 
 @dataclass
