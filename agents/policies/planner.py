@@ -82,12 +82,24 @@ class PlannerSettings:
     #: run the whole search again from each of these constants too; the best plan wins (a search
     #: from the hindsight constant alone stays near it)
     beam_starts_n: tuple[float, ...] = ()
+    #: the lengths (control intervals) of the ``block_levels_n`` blocks; empty: ``replan_every``
+    #: (a short block at the top preload is a kick: it can pull the rotor off a quasi-periodic
+    #: orbit that the level it returns to keeps)
+    block_intervals: tuple[int, ...] = ()
+    #: a level held from t further below the set-point before t than the widest ``local_n`` step
+    #: is also tried as a linear ramp down to it over each of these numbers of intervals (a sudden
+    #: drop can ring the rotor quasi-periodic; a rise only stiffens it)
+    ramp_down_intervals: tuple[int, ...] = ()
 
     def __post_init__(self):
         for name in ("replan_every", "passes"):
             v = getattr(self, name)
             if isinstance(v, bool) or not isinstance(v, int) or v < 1:
                 raise ValueError(f"{name} must be an integer >= 1, got {v!r}")
+        for name in ("start_ramp_intervals", "block_intervals", "ramp_down_intervals"):
+            bad = [v for v in getattr(self, name) if isinstance(v, bool) or not isinstance(v, int) or v < 1]
+            if bad:
+                raise ValueError(f"{name} must hold integers >= 1 (control intervals), got {bad!r}")
 
     def as_dict(self) -> dict[str, Any]:
         """The settings as stored with each run (the searches added later only where they are on,
@@ -105,6 +117,10 @@ class PlannerSettings:
             out["start_ramp_intervals"] = list(self.start_ramp_intervals)
         if self.beam_starts_n:
             out["beam_starts_n"] = list(self.beam_starts_n)
+        if self.block_intervals:
+            out["block_intervals"] = list(self.block_intervals)
+        if self.ramp_down_intervals:
+            out["ramp_down_intervals"] = list(self.ramp_down_intervals)
         return out
 
 
@@ -225,33 +241,46 @@ class _Episode:
         return out, False
 
 
-def _candidates(plan: np.ndarray, t: int, s: PlannerSettings, ep: _Episode) -> list[np.ndarray]:
+def _candidates(plan: np.ndarray, t: int, s: PlannerSettings, ep: _Episode, swept: frozenset[float]) -> list[np.ndarray]:
+    """The plans tried at decision t (module docstring). At t = 0 a new level held from t is a
+    constant plan: those of the hindsight sweep (``swept``) are left out, as none can beat the
+    incumbent (it starts as their best and only rises)."""
     base = float(plan[t])
+    widest_local = max((abs(d) for d in s.local_n), default=0.0)
     out: list[np.ndarray] = []
 
     def add(p: np.ndarray) -> None:
         if not np.array_equal(p, plan) and not any(np.array_equal(p, q) for q in out):
             out.append(p)
-    for d in s.local_n:
-        if ep.in_range(base + d):
-            p = plan.copy()
-            p[t:] = base + d
-            add(p)
-    for d in s.block_n:
-        if ep.in_range(base + d):
-            p = plan.copy()
-            p[t:t + s.replan_every] = base + d
-            add(p)
-    for v in s.jumps_n:
-        if ep.in_range(v) and abs(v - base) > max((abs(d) for d in s.local_n), default=0.0):
+
+    def hold(v: float) -> None:
+        if ep.in_range(v) and not (t == 0 and v in swept):
             p = plan.copy()
             p[t:] = v
             add(p)
-    for v in s.block_levels_n:
+        if t > 0 and ep.in_range(v) and plan[t - 1] - v > widest_local:
+            for k in s.ramp_down_intervals:
+                p = plan.copy()
+                p[t:] = v
+                n = min(k, len(plan) - t)
+                p[t:t + n] = plan[t - 1] + (v - plan[t - 1]) * np.arange(1, n + 1) / (k + 1)
+                add(p)
+
+    def block(v: float, length: int) -> None:
         if ep.in_range(v):
             p = plan.copy()
-            p[t:t + s.replan_every] = v
+            p[t:t + length] = v
             add(p)
+    for d in s.local_n:
+        hold(base + d)
+    for d in s.block_n:
+        block(base + d, s.replan_every)
+    for v in s.jumps_n:
+        if abs(v - base) > widest_local:
+            hold(v)
+    for v in s.block_levels_n:
+        for length in s.block_intervals or (s.replan_every,):
+            block(v, length)
     if t == 0:
         start = ep.initial_preload_n
         for k in s.start_ramp_intervals:
@@ -276,8 +305,10 @@ def plan_episode(tier: str, seed: int, episode_steps: int = EPISODE_STEPS,
     t_start = time.perf_counter()
     s = settings
     grid = preload_grid(s.grid_step_n)
-    local = (len(s.local_n) + len(s.block_n) + len(s.jumps_n) + len(s.block_levels_n)   # candidates at most
-             + len(s.start_ramp_intervals))
+    local = (len(s.local_n) + len(s.block_n) + len(s.jumps_n)                 # candidates at most
+             + len(s.block_levels_n) * max(1, len(s.block_intervals)) + len(s.start_ramp_intervals)
+             + (len(s.local_n) + len(s.jumps_n)) * len(s.ramp_down_intervals))
+    swept = frozenset(float(p) for p in grid)
     T = episode_steps
     source = "sweep" if hindsight is None else "stored"
     if hindsight is None:
@@ -314,7 +345,7 @@ def plan_episode(tier: str, seed: int, episode_steps: int = EPISODE_STEPS,
             ended = False
             for t in range(0, T, s.replan_every):
                 if t > 0 or s.decide_at_start:
-                    cands = _candidates(plan, t, s, ep)
+                    cands = _candidates(plan, t, s, ep, swept)
                     counts[0] += 1
                     changed = False
                     bound = (_sequential_sum(prefix), incumbent) if prune else None

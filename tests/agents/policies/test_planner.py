@@ -89,3 +89,55 @@ def test_the_wider_search_only_adds_to_the_plain_one():
         PlannerSettings(passes=0)
     with pytest.raises(ValueError, match="warm plan needs 12 set-points"):
         plan_episode(tier, seed, episode_steps=STEPS, settings=SMALL, warm_plan_n=np.full(5, 1000.0))
+
+
+class _Range:
+    """What the candidate list needs of an episode: the actuator's range and the initial preload."""
+    initial_preload_n = 700.0
+
+    @staticmethod
+    def in_range(v: float) -> bool:
+        return 300.0 <= v <= 2000.0
+
+
+def test_candidates_kicks_ramps_and_no_swept_constant_at_the_start():
+    """Block levels come in each of ``block_intervals``' lengths and return to the incumbent after
+    it; at t = 0 a level held from t would be a constant plan, and those of the hindsight sweep
+    are left out (none can beat its best), while ramps from the initial preload (700 N here) rise
+    linearly to the incumbent's set-point."""
+    from agents.policies.planner import _candidates
+    s = PlannerSettings(replan_every=10, local_n=(-50.0, 50.0), block_n=(), jumps_n=(300.0,),
+                        block_levels_n=(2000.0,), block_intervals=(3, 10), decide_at_start=True,
+                        start_ramp_intervals=(4,))
+    plan = np.full(30, 1500.0)
+    swept = frozenset(preload_grid(50.0))
+    at_start = _candidates(plan, 0, s, _Range, swept)
+    assert not any(np.all(c == c[0]) for c in at_start)            # no constant plan at t = 0
+    kicks = [c for c in at_start if c[0] == 2000.0]
+    assert sorted(int((c == 2000.0).sum()) for c in kicks) == [3, 10]
+    assert all(np.all(c[(c != 2000.0)] == 1500.0) for c in kicks)   # back to the incumbent after the kick
+    ramp = [c for c in at_start if c[0] not in (2000.0, 1500.0)]
+    assert len(ramp) == 1
+    np.testing.assert_allclose(ramp[0][:5], [860.0, 1020.0, 1180.0, 1340.0, 1500.0], rtol=0, atol=1e-9)
+    later = _candidates(plan, 10, s, _Range, swept)                 # later on: levels held, blocks, kicks
+    held = sorted(float(c[-1]) for c in later if c[-1] != 1500.0)
+    assert held == [300.0, 1450.0, 1550.0] and all(np.all(c[:10] == 1500.0) for c in later)
+    assert len(later) == 3 + 2
+    with pytest.raises(ValueError, match="block_intervals"):
+        PlannerSettings(block_intervals=(0,))
+
+
+def test_a_drop_wider_than_the_local_steps_is_also_tried_as_a_ramp():
+    """With ``ramp_down_intervals`` a level held from t more than the widest local step below the
+    set-point before t is also tried as a linear ramp down to it (a sudden drop can ring the
+    rotor): here 1500 -> 300 N over 4 intervals, 240 N each; the 50 N local steps get no ramp."""
+    from agents.policies.planner import _candidates
+    s = PlannerSettings(replan_every=10, local_n=(-50.0, 50.0), block_n=(), jumps_n=(300.0,),
+                        ramp_down_intervals=(4,))
+    plan = np.full(30, 1500.0)
+    later = _candidates(plan, 10, s, _Range, frozenset(preload_grid(50.0)))
+    ramps = [c for c in later if 300.0 < c[10] < 1450.0]
+    assert len(later) == 3 + 1 and len(ramps) == 1
+    np.testing.assert_allclose(ramps[0][8:16], [1500.0, 1500.0, 1260.0, 1020.0, 780.0, 540.0, 300.0, 300.0],
+                               rtol=0, atol=1e-9)
+    assert PlannerSettings(ramp_down_intervals=(6,)).as_dict()["ramp_down_intervals"] == [6]
