@@ -65,7 +65,6 @@ from bearing_gym.task import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
 from bearing_gym.envs.tiers import tier_is_deterministic
 
 from agents import protocol as P
-from agents.leaderboard import scoring
 from agents.policies.contextual import DATA_DIR, ContextualConstant, contextual_path
 from agents.references.contextual_fit import fit_contextual
 from agents.leaderboard.tables import summarise, to_markdown
@@ -76,15 +75,11 @@ from agents.policies.scripted import ConstantPreload
 from agents.references.store import STORE_PATH, ValidationChoice, load_choice, save_choice
 from agents.references.validation import choose_validation_constant, hindsight_grid, hindsight_reference
 from agents.references.planner_runs import replay
-from agents.references.tier_gap import paired_ci
 from agents.policies.planner import plan_episode
 from agents.leaderboard.results_file import default_out, header, kept_tiers, table_path, write
 from agents.references.store import StoredReferences, load_references
 from agents.leaderboard.settings import FULL, SMOKE, Settings
-
-
-#: the planner's row on the board (the upper reference)
-PLANNER_ROW = "planner (true simulator, the episode's future)"
+from agents.leaderboard.upper import PLANNER_ROW, planner_row, score_bounds, upper_fields
 
 __all__ = ["PLANNER_ROW", "LearnedGroup", "learned_groups", "run_tier", "summarise",
            "to_markdown", "main"]
@@ -221,20 +216,6 @@ def _stages(s: Settings, stored: StoredReferences | None) -> int:
     return 1 if stored is not None else (3 if s.planner is not None else 2)
 
 
-def _planner_gain(refs: StoredReferences) -> dict[str, Any] | None:
-    """The planner minus the hindsight constant, paired over the test episodes: what closed-loop
-    scheduling with the episode's future adds to the best constant (a tier's closed-loop gap)."""
-    if refs.planner is None:
-        return None
-    diff = np.asarray(refs.planner.returns) - np.asarray(refs.hindsight.returns)
-    out: dict[str, Any] = {"mean": float(np.mean(diff)), "median": float(np.median(diff)),
-                           "improved_episodes": int(np.sum(diff > 0)), "episodes": int(diff.size)}
-    if diff.size > 1:
-        _, out["ci_low"], out["ci_high"] = paired_ci(diff)
-        out["ci_method"] = "paired Student-t 95 % over the test episodes"
-    return out
-
-
 def _inference(policies: list) -> str:
     """How a group's actions were computed: bit-identical on every CPU, or through torch."""
     from agents.policies.portable import PortablePolicy
@@ -267,8 +248,8 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
     refs = _references(tier, s, choice, seeds, progress, stored)
     if stored is None and save_references_to is not None:
         refs.save(save_references_to)
-    r0 = refs.validation_constant.returns       # the score's 0 and 1 (checked before the policies run)
-    r1 = scoring.upper_reference(refs.hindsight.returns, None if refs.planner is None else refs.planner.returns)
+    # the score's 0 and 1 (checked before the policies run)
+    r0, r1 = score_bounds(refs)
     shape = f"{s.episodes} test episodes of {s.episode_steps} steps"
     live_constant = [ConstantPreload(choice.preload_n)] if stored is not None else []
     policies = live_constant + [contextual, MapOracle()] + [p for g in groups for p in g.policies]
@@ -291,10 +272,7 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
                                             fit=contextual.meta)
     rows["oracle (reward map, nearest cell)"] = summarise("reference", [oracle_res], r0, r1, **reps)
     if refs.planner is not None:
-        rows[PLANNER_ROW] = summarise("reference", [refs.planner], r0, r1, **reps, **refs.planner_settings,
-                                      wall_s_per_episode=refs.planner_wall_s_per_episode,
-                                      role="the upper reference: 1 by definition (below 1 only where the gap to "
-                                           "the validation constant is under the denominator floor)")
+        rows[PLANNER_ROW] = planner_row(refs, r0, r1, **reps)
     k = 0
     for g in groups:                # also those trained on another tier, named so (row_name)
         runs = learned_res[k:k + len(g.policies)]
@@ -309,17 +287,12 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
             deviations.append(f"{g.row_name(tier)}: {len(g.policies)} training seeds (the protocol: {want})")
     if s.episodes < protocol_s.episodes:
         deviations.append(f"{s.episodes} test episodes (the protocol: {protocol_s.episodes})")
-    if refs.planner is None:
-        deviations.append("no planner: the upper reference is the hindsight constant alone (the protocol: the planner)")
-    elif refs.planner_settings != protocol_s.planner_settings():
-        deviations.append(f"the planner searched with {refs.planner_settings} (the protocol: {protocol_s.planner_settings()})")
+    upper, upper_deviations = upper_fields(refs, protocol_s.planner_settings())
+    deviations += upper_deviations
     if s.episode_steps != EPISODE_STEPS:
         deviations.append(f"{s.episode_steps}-step episodes (the benchmark: {EPISODE_STEPS})")
     if s.smoke:
         deviations.insert(0, "smoke run: tiny budget, the numbers mean nothing")
-    upper = ("the planner (true simulator, the episode's future) on every test episode; it starts from the "
-             "hindsight constant and never ends below it" if refs.planner is not None else
-             "the hindsight constant alone (the planner did not run)")
     return {"episodes": s.episodes, "seeds": [seeds.start, seeds[-1]], "episode_steps": s.episode_steps,
             "deterministic": deterministic,
             **({"deterministic_note": f"every seed gives this tier the same episode (scenario and sensor draw nothing "
@@ -335,12 +308,7 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
                                     "episode_steps": choice.episode_steps},
             "references": "stored (agents/data, checked against the validation constant run again)" if stored
             else "computed in this run",
-            "upper_reference": upper, "planner_episodes": 0 if refs.planner is None else s.episodes,
-            "planner_minus_hindsight": _planner_gain(refs),
-            "hindsight_grid_step_n": refs.hindsight_grid_step_n,
-            "denominator_floor": scoring.DENOMINATOR_FLOOR,
-            "floored_episodes": scoring.floored_episodes(r0, r1),
-            "policies": rows, "wall_s": time.time() - t0}
+            **upper, "policies": rows, "wall_s": time.time() - t0}
 
 
 def build_parser() -> argparse.ArgumentParser:

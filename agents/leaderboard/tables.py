@@ -12,7 +12,7 @@ from agents.leaderboard import scoring
 from agents.evaluation.result import EvalResult
 
 
-__all__ = ["summarise", "to_markdown"]
+__all__ = ["score_fields", "summarise", "to_markdown"]
 
 
 def _metrics(results: list[EvalResult]) -> dict[str, Any]:
@@ -31,21 +31,17 @@ def _metrics(results: list[EvalResult]) -> dict[str, Any]:
     return out
 
 
-def summarise(kind: str, results: list[EvalResult], r0: np.ndarray, r1: np.ndarray,
-              bootstrap_reps: int, poi_reps: int, versus: dict[str, EvalResult] | None = None,
-              **extra: Any) -> dict[str, Any]:
-    """One row of results.json: the normalised scores of ``results`` (one EvalResult per run,
-    all on the episodes of ``r0``/``r1``) aggregated with rliable, the raw metrics and every
-    return (``episode_returns``, runs x episodes, the tier's test seeds in order).
-    ``versus``: other rows' results on the same episodes, each given as the probability that
-    this row improves on it (``poi_over``: P, 95 % low, high; e.g. over the contextual constant,
-    the test of whether a policy does more than pick one preload from the first observation)."""
-    returns = np.array([r.returns for r in results])                     # (runs, episodes)
+def score_fields(returns: np.ndarray, r0: np.ndarray, r1: np.ndarray, bootstrap_reps: int, poi_reps: int,
+                 versus: dict[str, np.ndarray] | None = None) -> dict[str, Any]:
+    """The fields of a row that depend on the score's 0 and 1: the normalised scores of
+    ``returns`` (runs x episodes, the episodes of ``r0``/``r1``) aggregated with rliable, the share
+    above 1, and the probability of improvement over the validation constant and over each of
+    ``versus`` (other rows' returns on the same episodes, runs x episodes)."""
     scores = scoring.normalised_scores(returns, r0, r1)
     point, lo, hi = scoring.iqm_interval(scores, reps=bootstrap_reps)
     poi, poi_lo, poi_hi = scoring.probability_of_improvement(scores, np.zeros((1, scores.shape[1])), reps=poi_reps)
     row: dict[str, Any] = {
-        "kind": kind, "normalised_score_iqm": point, "ci_low": lo, "ci_high": hi,
+        "normalised_score_iqm": point, "ci_low": lo, "ci_high": hi,
         "ci_method": ("stratified bootstrap over training seeds and episodes (rliable, task_bootstrap=True)"
                       if scores.shape[0] > 1 else "bootstrap over episodes (single run; rliable, task_bootstrap=True)"),
         "n_seeds": int(scores.shape[0]), "n_episodes": int(scores.shape[1]),
@@ -58,8 +54,23 @@ def summarise(kind: str, results: list[EvalResult], r0: np.ndarray, r1: np.ndarr
         _, row["seed_ci_low"], row["seed_ci_high"] = scoring.seed_interval(scores, reps=bootstrap_reps)
     if versus:
         row["poi_over"] = {name: list(scoring.probability_of_improvement(
-            scores, scoring.normalised_scores(np.atleast_2d(other.returns), r0, r1), reps=poi_reps))
-            for name, other in versus.items()}
+            scores, scoring.normalised_scores(other, r0, r1), reps=poi_reps)) for name, other in versus.items()}
+    return row
+
+
+def summarise(kind: str, results: list[EvalResult], r0: np.ndarray, r1: np.ndarray,
+              bootstrap_reps: int, poi_reps: int, versus: dict[str, EvalResult] | None = None,
+              **extra: Any) -> dict[str, Any]:
+    """One row of results.json: the normalised scores of ``results`` (one EvalResult per run,
+    all on the episodes of ``r0``/``r1``) aggregated with rliable, the raw metrics and every
+    return (``episode_returns``, runs x episodes, the tier's test seeds in order).
+    ``versus``: other rows' results on the same episodes, each given as the probability that
+    this row improves on it (``poi_over``: P, 95 % low, high; e.g. over the contextual constant,
+    the test of whether a policy does more than pick one preload from the first observation)."""
+    returns = np.array([r.returns for r in results])                     # (runs, episodes)
+    row: dict[str, Any] = {"kind": kind}
+    row.update(score_fields(returns, r0, r1, bootstrap_reps, poi_reps,
+                            None if versus is None else {k: np.atleast_2d(v.returns) for k, v in versus.items()}))
     row.update(_metrics(results))
     row["episode_returns"] = returns.tolist()        # (runs, episodes): for statistics of your own
     row.update(extra)
@@ -100,6 +111,9 @@ def to_markdown(results: dict[str, Any]) -> str:
                       "episodes): the closed-loop gap with the episode's future known.", ""]
         if t.get("command", results["command"]) != results["command"]:
             lines += [f"Rows of this tier made by `{t['command']}` (kept by --keep-other-tiers).", ""]
+        if t.get("rescored_by"):
+            lines += [f"Scores re-computed from the rows' stored per-episode returns against today's stored references "
+                      f"by `{t['rescored_by']}` (no policy ran again).", ""]
         if t.get("deterministic_note"):
             lines += ["Deterministic tier: " + t["deterministic_note"] + ".", ""]
         if not t["protocol"]:

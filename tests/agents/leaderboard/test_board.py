@@ -25,13 +25,19 @@ def _untrained_run(d, seed, tier="transient"):
     (d / "config.json").write_text(json.dumps({"algo": "ppo", "seed": seed, "tier": tier, "num_timesteps": 0}))
 
 
-def test_smoke_leaderboard_writes_every_row_with_its_statistics(tmp_path):
+def untrained_runs(parent, seeds=(0, 1000)):
+    """One untrained PPO run directory per seed under ``parent`` (:func:`_untrained_run`)."""
     runs = []
-    for seed in (0, 1000):
-        d = tmp_path / f"ppo_{seed}"
+    for seed in seeds:
+        d = parent / f"ppo_{seed}"
         d.mkdir()
         _untrained_run(d, seed)
         runs.append(str(d))
+    return runs
+
+
+def test_smoke_leaderboard_writes_every_row_with_its_statistics(tmp_path):
+    runs = untrained_runs(tmp_path)
     out = tmp_path / "lb" / "results.json"
     leaderboard.main(["--smoke", "--out", str(out), "--model", *runs])
     data = json.loads(out.read_text())
