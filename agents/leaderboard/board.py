@@ -30,7 +30,9 @@ A run of the protocol's size stores the references (per episode) in
 ``agents/data/test_references_<tier>.json`` (:mod:`agents.references.store`);
 ``--stored-references`` reads them instead of computing them, runs the validation constant again
 beside the policies and refuses a store whose returns it does not reproduce. The same store can
-be built in parts spread over sessions: :mod:`agents.leaderboard.reference_parts`.
+be built in parts spread over sessions: :mod:`agents.leaderboard.reference_parts`. When only the
+references change (the planner run on more tiers or with a wider search), ``python -m
+agents.leaderboard.rescore`` re-scores the rows' stored per-episode returns without running a policy.
 
 Scores and statistics: :mod:`agents.leaderboard.scoring` (0 = the validation-chosen constant, 1 = the
 planner's return on the episode, never below the hindsight constant's - a denominator floor of one quasi-periodic interval's cost, IQM with stratified-bootstrap 95 %
@@ -322,7 +324,7 @@ def build_parser() -> argparse.ArgumentParser:
     ap.add_argument("--episodes", type=int, help=f"test episodes (default: the protocol's {P.TEST_EPISODES}; "
                                                  "fewer is recorded as a deviation; a deterministic tier runs one)")
     ap.add_argument("--no-planner", action="store_true",
-                    help="score against the hindsight constant alone (a deviation; the planner costs ~1.5 min per episode "
+                    help="score against the hindsight constant alone (a deviation; the planner costs ~1-2 min per episode "
                          "when the references are computed, not stored)")
     ap.add_argument("--store", default=str(STORE_PATH), help="stored validation-chosen constants")
     ap.add_argument("--contextual-dir", default=str(DATA_DIR), help="fitted contextual constants")

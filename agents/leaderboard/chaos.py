@@ -40,7 +40,7 @@ from agents.evaluation.trained import PRETRAINED_DIR, load_trained, shipped_dirs
 from agents.evaluation.episodes import run_policies
 from agents.policies.scripted import ConstantPreload
 from agents.protocol import held_out_seeds
-from agents.references.store import load_choice
+from agents.references.store import load_choice, load_references
 
 
 __all__ = ["perturbation", "replica_returns", "summarise", "main", "RELATIVE_PERTURBATION"]
@@ -101,6 +101,28 @@ def summarise(returns: dict[str, np.ndarray], r0: np.ndarray | None = None,
     return out
 
 
+def _score_bounds(tier: str, episodes: int, constant_n: float,
+                  constant_returns: np.ndarray) -> tuple[np.ndarray | None, np.ndarray | None, str]:
+    """The score's 0 and 1 on the first ``episodes`` test episodes from the tier's stored test
+    references (:func:`agents.leaderboard.upper.score_bounds`), if they were made by this kernel
+    for the constant this run used (``constant_n``, whose unperturbed returns must be the stored
+    ones bit for bit); else (None, None, why not)."""
+    from agents.leaderboard.upper import score_bounds
+    try:
+        refs = load_references(tier)
+        refs.check_kernel(f"python -m agents.leaderboard --tier {tier}")
+        refs = refs.first(episodes)
+        if refs.validation_preload_n != constant_n:
+            raise ValueError(f"the store scores {refs.validation_preload_n:.0f} N, this run {constant_n:.0f} N")
+        refs.check_fresh(constant_returns, f"python -m agents.leaderboard --tier {tier}")
+        r0, r1 = score_bounds(refs)
+    except (FileNotFoundError, RuntimeError, ValueError) as err:
+        return None, None, f"none (no normalised scores: {str(err).splitlines()[0]})"
+    upper = "the hindsight constant" if refs.planner is None else f"the planner {refs.planner_settings}"
+    return r0, r1, (f"the stored test references: 0 = the validation constant ({refs.validation_preload_n:.0f} N), "
+                    f"1 = {upper}")
+
+
 def default_policies(tier: str, pretrained_dir: Path = PRETRAINED_DIR) -> list:
     choice = load_choice(tier)
     return [ConstantPreload(choice.preload_n)] + [load_trained(d, portable=True) for d in shipped_dirs(pretrained_dir)]
@@ -143,10 +165,13 @@ def main(argv: list[str] | None = None) -> int:
     reps = [json.loads((parts / f"replica_{r}.json").read_text()) for r in range(a.replicas + 1)]
     names = list(reps[0]["returns"])
     returns = {n: np.array([rep["returns"][n] for rep in reps]) for n in names}
+    constant = policies[0]                     # default_policies: the validation constant first
+    r0, r1, scored_against = _score_bounds(a.tier, a.episodes, constant.preload_n, returns[constant.name][0])
     summary = {"about": __doc__.split("\n\n")[0], "tier": a.tier, "episodes": a.episodes, "kernel_hash": kernel_hash(),
                "replicas": a.replicas, "relative_perturbation": RELATIVE_PERTURBATION,
                "command": "python -m agents.leaderboard.chaos " + " ".join(sys.argv[1:] if argv is None else argv),
-               "wall_s": sum(rep["wall_s"] for rep in reps), "policies": summarise(returns)}
+               "wall_s": sum(rep["wall_s"] for rep in reps), "scores_against": scored_against,
+               "policies": summarise(returns, r0, r1)}
     out.write_text(json.dumps(summary, indent=1) + "\n")
     print(f"wrote {out} ({time.time() - t0:.0f} s this run)")
     for n, row in summary["policies"].items():

@@ -3,8 +3,8 @@
     python -m agents.leaderboard.rescore                    # docs/results.json, every tier in it
 
 The board (:mod:`agents.leaderboard.board`) stores every row's per-episode returns
-(``episode_returns``, runs x episodes). When the upper reference changes - the planner runs on
-more episodes or with a wider search, and ``reference_parts --merge`` writes it into
+(``episode_returns``, runs x episodes). When the upper reference changes - the planner runs on a
+tier where it had not, or with a wider search, and ``reference_parts --merge`` writes it into
 ``agents/data/test_references_<tier>.json`` - nothing a policy did changes, only the score's 1.
 This recomputes, for every row of every tier, the fields that depend on it
 (:func:`agents.leaderboard.tables.score_fields`: normalised IQM and intervals, the share above 1,
@@ -14,7 +14,10 @@ the file's protocol header (the planner's settings are part of the protocol).
 
 Refused (nothing written) where the stored returns are not the ones the board scored: a
 results.json made by another kernel, a store of another kernel, or a store whose validation
-constant or hindsight constant does not equal the row the board wrote bit for bit.
+constant or hindsight constant does not equal the row the board wrote bit for bit; and, as the
+board refuses it, a stored planner that searched with other settings than the run's (the
+protocol's; a smoke results.json: the smoke planner's). Minutes at the protocol's 50,000
+bootstrap replications (every row's intervals are drawn again).
 """
 
 from __future__ import annotations
@@ -30,10 +33,10 @@ import numpy as np
 from bearing_gym.envs.provenance import kernel_hash
 
 from agents.leaderboard.results_file import protocol_summary, write
-from agents.leaderboard.settings import FULL
+from agents.leaderboard.settings import FULL, SMOKE
 from agents.leaderboard.tables import score_fields
 from agents.leaderboard.upper import PLANNER_ROW, is_upper_deviation, planner_row, score_bounds, upper_fields
-from agents.paths import DATA_DIR, docs_dir
+from agents.paths import DATA_DIR, require_checkout
 from agents.references.store import StoredReferences, load_references
 
 __all__ = ["rescore_tier", "rescore", "main"]
@@ -54,10 +57,25 @@ def _check_same_returns(tier: str, name: str, row: dict[str, Any], stored: np.nd
                          f"(`python -m agents.leaderboard --tier {tier} ... --stored-references`)")
 
 
+def _with_upper_deviations(old: list[str], upper: list[str]) -> list[str]:
+    """``old`` with its upper-reference deviations replaced by ``upper``, where the board puts
+    them (before an episode-length deviation)."""
+    at = next((k for k, d in enumerate(old) if is_upper_deviation(d)),
+              next((k for k, d in enumerate(old) if "-step episodes (the benchmark" in d), None))
+    kept = [d for d in old if not is_upper_deviation(d)]
+    at = len(kept) if at is None else sum(1 for d in old[:at] if not is_upper_deviation(d))
+    return kept[:at] + upper + kept[at:]
+
+
 def rescore_tier(tier: str, t: dict[str, Any], refs: StoredReferences, bootstrap_reps: int, poi_reps: int,
-                 command: str) -> dict[str, Any]:
+                 command: str, smoke: bool = False) -> dict[str, Any]:
     """The tier object ``t`` of results.json scored against ``refs`` (its own test episodes)."""
     refs.check_kernel(f"python -m agents.leaderboard --tier {tier}")
+    run_planner = (SMOKE if smoke else FULL).planner_settings()
+    if refs.planner is not None and refs.planner_settings != run_planner:
+        raise ValueError(f"the stored planner of tier {tier} searched with {refs.planner_settings}, these settings "
+                         f"name {run_planner}: plan again (`python -m agents.references.planner_runs --tier {tier} "
+                         f"--until HH:MM`, then `python -m agents.leaderboard.reference_parts --tier {tier} --merge`)")
     refs = refs.first(t["episodes"])
     if [refs.seeds[0], refs.seeds[-1]] != list(t["seeds"]) or refs.episode_steps != t["episode_steps"]:
         raise ValueError(f"tier {tier}: the stored references are for seeds {refs.seeds[0]}..{refs.seeds[-1]} of "
@@ -67,7 +85,6 @@ def rescore_tier(tier: str, t: dict[str, Any], refs: StoredReferences, bootstrap
     _check_same_returns(tier, *_row_named(rows, "validation constant", tier), refs.validation_constant.returns)
     _check_same_returns(tier, *_row_named(rows, "hindsight constant", tier), refs.hindsight.returns)
     r0, r1 = score_bounds(refs)
-    protocol_planner = FULL.planner_settings()
     new_rows: dict[str, Any] = {}
     for name, row in rows.items():
         if name == PLANNER_ROW:
@@ -80,10 +97,11 @@ def rescore_tier(tier: str, t: dict[str, Any], refs: StoredReferences, bootstrap
                                                 bootstrap_reps, poi_reps, versus or None)}
     if refs.planner is not None and PLANNER_ROW not in new_rows:
         new_rows[PLANNER_ROW] = planner_row(refs, r0, r1, bootstrap_reps, poi_reps)
-    fields, upper_deviations = upper_fields(refs, protocol_planner)
-    deviations = [d for d in t["protocol_deviations"] if not is_upper_deviation(d)] + upper_deviations
-    return {**t, "protocol": not deviations, "protocol_deviations": deviations, **fields, "policies": new_rows,
-            "rescored_by": command}
+    fields, upper_deviations = upper_fields(refs, FULL.planner_settings())
+    deviations = _with_upper_deviations(t["protocol_deviations"], upper_deviations)
+    return {**t, "protocol": not deviations, "protocol_deviations": deviations,
+            "references": "stored (agents/data); the scores re-computed against them by rescore (no policy ran again)",
+            **fields, "policies": new_rows, "rescored_by": command}
 
 
 def rescore(results: dict[str, Any], references_dir: Path, command: str) -> dict[str, Any]:
@@ -95,7 +113,7 @@ def rescore(results: dict[str, Any], references_dir: Path, command: str) -> dict
                          "are another kernel's; run the board again")
     stats = results["statistics"]
     tiers = {tier: rescore_tier(tier, t, load_references(tier, references_dir), stats["bootstrap_reps"],
-                                stats["poi_reps"], command)
+                                stats["poi_reps"], command, smoke=results.get("mode") == "smoke")
              for tier, t in results["tiers"].items()}
     return {**results, "protocol": protocol_summary(), "tiers": tiers}
 
@@ -104,13 +122,19 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     ap = argparse.ArgumentParser(prog="python -m agents.leaderboard.rescore",
                                  description="Re-score results.json against today's stored test references "
                                              "(no policy runs).")
-    ap.add_argument("--results", default=str(docs_dir() / "results.json"))
+    ap.add_argument("--results", help="the results.json to re-score in place (default: docs/results.json of the checkout)")
     ap.add_argument("--references-dir", default=str(DATA_DIR))
     a = ap.parse_args(argv)
-    path = Path(a.results)
+    try:
+        path = Path(a.results) if a.results else require_checkout("docs/results.json", "--results") / "docs" / "results.json"
+    except ValueError as err:
+        raise SystemExit(f"rescore: {err}") from None
     command = "python -m agents.leaderboard.rescore " + " ".join(argv if argv is not None else sys.argv[1:])
     try:
         out = rescore(json.loads(path.read_text()), Path(a.references_dir), command.strip())
+    except KeyError as err:
+        raise SystemExit(f"rescore: {path} has no {err} where a board's results.json has one (an older format?): "
+                         "run the board again") from None
     except (ValueError, RuntimeError, FileNotFoundError) as err:
         raise SystemExit(f"rescore: {err}") from None
     write(out, path, None)

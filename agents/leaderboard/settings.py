@@ -65,6 +65,7 @@ _COARSE_N = 850.0       # smoke grids: 300, 1150, 2000 N
 
 SMOKE = Settings(smoke=True, episodes=2, episode_steps=3, hindsight_grid_step_n=_COARSE_N,
                  planner=PlannerSettings(replan_every=1, grid_step_n=_COARSE_N, local_n=(-_COARSE_N, _COARSE_N),
-                                         block_n=(), jumps_n=(300.0, 2000.0)),
+                                         block_n=(), jumps_n=(300.0, 2000.0), start_ramp_intervals=(2,),
+                                         block_intervals=(1,), ramp_down_intervals=(2,)),
                  bootstrap_reps=200, poi_reps=50, validation_episodes=2, contextual_episodes=3,
                  contextual_grid_step_n=_COARSE_N)

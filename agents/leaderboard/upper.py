@@ -21,7 +21,8 @@ __all__ = ["PLANNER_ROW", "score_bounds", "planner_row", "planner_gain", "upper_
 #: the planner's row on the board (the upper reference)
 PLANNER_ROW = "planner (true simulator, the episode's future)"
 
-_ROLE = "the upper reference: 1 by definition (below 1 only where the gap to the validation constant is under the denominator floor)"
+_ROLE = ("the upper reference: 1 by definition (below 1 only where the gap to the validation constant is under the "
+         "denominator floor)")
 _NO_PLANNER = "no planner: the upper reference is the hindsight constant alone (the protocol: the planner)"
 _OTHER_SEARCH = "the planner searched with "
 
@@ -38,7 +39,8 @@ def score_bounds(refs: StoredReferences) -> tuple[np.ndarray, np.ndarray]:
 def planner_row(refs: StoredReferences, r0: np.ndarray, r1: np.ndarray, bootstrap_reps: int,
                 poi_reps: int) -> dict[str, Any]:
     """The planner's row of results.json (``refs.planner`` must exist)."""
-    assert refs.planner is not None and refs.planner_settings is not None
+    if refs.planner is None or refs.planner_settings is None:
+        raise ValueError(f"tier {refs.tier}: the stored references hold no planner: no planner row")
     return summarise("reference", [refs.planner], r0, r1, bootstrap_reps=bootstrap_reps, poi_reps=poi_reps,
                      **refs.planner_settings, wall_s_per_episode=refs.planner_wall_s_per_episode, role=_ROLE)
 

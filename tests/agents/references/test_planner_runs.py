@@ -8,7 +8,7 @@ import pytest
 from agents.policies.planner import PlannerSettings
 from agents.references import planner_runs as R
 
-SMALL = PlannerSettings(replan_every=3, grid_step_n=850.0, local_n=(-50.0, 50.0), block_n=(), jumps_n=())
+SMALL = PlannerSettings.plain(replan_every=3, grid_step_n=850.0, local_n=(-50.0, 50.0), block_n=(), jumps_n=())
 
 
 def test_runs_write_one_file_per_episode_and_resume(tmp_path):
