@@ -104,6 +104,14 @@ def test_rllib_snippet_trains_ppo_on_two_env_runners():
         return out
 
     code = compile(small_setup(page_snippet()), f"docs/{PAGE.name} ({SECTION[3:]})", "exec")
+    # compile the kernels here, once: the env runners (which inherit NUMBA_CACHE_DIR) then load
+    # them from the cache in seconds. A runner that compiles them inside its first sample() can
+    # overrun RLlib's 60 s sample timeout on a loaded 2-core machine, and an iteration whose
+    # sampling timed out reports no samples at all (no "env_runners" in its result).
+    env = gymnasium.make(ENV_ID, tier="transient")
+    env.reset(seed=0)
+    env.step(env.action_space.sample())
+    env.close()
     ray.init(num_cpus=2, include_dashboard=False, log_to_driver=False)
     try:
         ns: dict = {}
@@ -123,6 +131,8 @@ def test_rllib_snippet_trains_ppo_on_two_env_runners():
     assert [e for runner in envs for e in runner] == [("BearingPreloadEnv", "transient", EPISODE_STEPS)] * n_envs
 
     batch = SMALL["train_batch_size_per_learner"]
+    assert all("env_runners" in r for r in results), \
+        "an iteration sampled nothing (RLlib's sample timeout, 60 s, ran out: a machine too loaded?)"
     sampled = [r["env_runners"]["num_env_steps_sampled"] for r in results]
     assert sampled == [batch] * ITERATIONS
     assert results[-1]["env_runners"]["num_env_steps_sampled_lifetime"] == ITERATIONS * batch
