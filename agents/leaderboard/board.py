@@ -81,7 +81,7 @@ from agents.policies.planner import plan_episode
 from agents.leaderboard.results_file import default_out, header, kept_tiers, table_path, write
 from agents.references.store import StoredReferences, load_references
 from agents.leaderboard.settings import FULL, SMOKE, Settings
-from agents.leaderboard.upper import PLANNER_ROW, planner_row, score_bounds, upper_fields
+from agents.leaderboard.upper import PLANNER_ROW, planner_row, require_planner_settings, score_bounds, upper_fields
 
 __all__ = ["PLANNER_ROW", "LearnedGroup", "learned_groups", "run_tier", "summarise",
            "to_markdown", "main"]
@@ -188,9 +188,7 @@ def _references(tier: str, s: Settings, choice: ValidationChoice, seeds: range, 
                              f"grid, these settings a {s.hindsight_grid_step_n:g} N one")
         if s.planner is None:                    # scored against the hindsight constant alone
             return dataclasses.replace(refs, planner=None, planner_settings=None, planner_wall_s_per_episode=None)
-        if refs.planner is not None and refs.planner_settings != s.planner_settings():
-            raise ValueError(f"the stored planner of tier {tier} searched with {refs.planner_settings}, these settings "
-                             f"name {s.planner_settings()}")
+        require_planner_settings(refs, s.planner_settings())
         return refs
     extra = (choice.preload_n,)
     hindsight, sweep = hindsight_reference(tier, s.episodes, seeds.start, s.episode_steps, s.hindsight_grid_step_n,
@@ -289,7 +287,7 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
             deviations.append(f"{g.row_name(tier)}: {len(g.policies)} training seeds (the protocol: {want})")
     if s.episodes < protocol_s.episodes:
         deviations.append(f"{s.episodes} test episodes (the protocol: {protocol_s.episodes})")
-    upper, upper_deviations = upper_fields(refs, protocol_s.planner_settings())
+    upper, upper_deviations = upper_fields(refs, r0, r1, protocol_s.planner_settings())
     deviations += upper_deviations
     if s.episode_steps != EPISODE_STEPS:
         deviations.append(f"{s.episode_steps}-step episodes (the benchmark: {EPISODE_STEPS})")

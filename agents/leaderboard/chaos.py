@@ -39,6 +39,7 @@ from bearing_gym.envs.provenance import kernel_hash
 from agents.evaluation.trained import PRETRAINED_DIR, load_trained, shipped_dirs
 from agents.evaluation.episodes import run_policies
 from agents.policies.scripted import ConstantPreload
+from agents.leaderboard.upper import score_bounds
 from agents.protocol import held_out_seeds
 from agents.references.store import load_choice, load_references
 
@@ -107,7 +108,6 @@ def _score_bounds(tier: str, episodes: int, constant_n: float,
     references (:func:`agents.leaderboard.upper.score_bounds`), if they were made by this kernel
     for the constant this run used (``constant_n``, whose unperturbed returns must be the stored
     ones bit for bit); else (None, None, why not)."""
-    from agents.leaderboard.upper import score_bounds
     try:
         refs = load_references(tier)
         refs.check_kernel(f"python -m agents.leaderboard --tier {tier}")

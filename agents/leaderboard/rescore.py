@@ -35,7 +35,8 @@ from bearing_gym.envs.provenance import kernel_hash
 from agents.leaderboard.results_file import protocol_summary, write
 from agents.leaderboard.settings import FULL, SMOKE
 from agents.leaderboard.tables import score_fields
-from agents.leaderboard.upper import PLANNER_ROW, is_upper_deviation, planner_row, score_bounds, upper_fields
+from agents.leaderboard.upper import (PLANNER_ROW, is_upper_deviation, planner_row, require_planner_settings,
+                                     score_bounds, upper_fields)
 from agents.paths import DATA_DIR, require_checkout
 from agents.references.store import StoredReferences, load_references
 
@@ -71,11 +72,7 @@ def rescore_tier(tier: str, t: dict[str, Any], refs: StoredReferences, bootstrap
                  command: str, smoke: bool = False) -> dict[str, Any]:
     """The tier object ``t`` of results.json scored against ``refs`` (its own test episodes)."""
     refs.check_kernel(f"python -m agents.leaderboard --tier {tier}")
-    run_planner = (SMOKE if smoke else FULL).planner_settings()
-    if refs.planner is not None and refs.planner_settings != run_planner:
-        raise ValueError(f"the stored planner of tier {tier} searched with {refs.planner_settings}, these settings "
-                         f"name {run_planner}: plan again (`python -m agents.references.planner_runs --tier {tier} "
-                         f"--until HH:MM`, then `python -m agents.leaderboard.reference_parts --tier {tier} --merge`)")
+    require_planner_settings(refs, (SMOKE if smoke else FULL).planner_settings())
     refs = refs.first(t["episodes"])
     if [refs.seeds[0], refs.seeds[-1]] != list(t["seeds"]) or refs.episode_steps != t["episode_steps"]:
         raise ValueError(f"tier {tier}: the stored references are for seeds {refs.seeds[0]}..{refs.seeds[-1]} of "
@@ -85,19 +82,19 @@ def rescore_tier(tier: str, t: dict[str, Any], refs: StoredReferences, bootstrap
     _check_same_returns(tier, *_row_named(rows, "validation constant", tier), refs.validation_constant.returns)
     _check_same_returns(tier, *_row_named(rows, "hindsight constant", tier), refs.hindsight.returns)
     r0, r1 = score_bounds(refs)
-    new_rows: dict[str, Any] = {}
+    scored = []
     for name, row in rows.items():
         if name == PLANNER_ROW:
             continue                                  # rebuilt from the store below
-        if row["kind"] == "learned" and refs.planner is not None and PLANNER_ROW not in new_rows:
-            new_rows[PLANNER_ROW] = planner_row(refs, r0, r1, bootstrap_reps, poi_reps)
         versus = {k: np.atleast_2d(np.asarray(rows[k]["episode_returns"], dtype=np.float64))
                   for k in row.get("poi_over", {})}
-        new_rows[name] = {**row, **score_fields(np.asarray(row["episode_returns"], dtype=np.float64), r0, r1,
-                                                bootstrap_reps, poi_reps, versus or None)}
-    if refs.planner is not None and PLANNER_ROW not in new_rows:
-        new_rows[PLANNER_ROW] = planner_row(refs, r0, r1, bootstrap_reps, poi_reps)
-    fields, upper_deviations = upper_fields(refs, FULL.planner_settings())
+        scored.append((name, {**row, **score_fields(np.asarray(row["episode_returns"], dtype=np.float64), r0, r1,
+                                                    bootstrap_reps, poi_reps, versus or None)}))
+    if refs.planner is not None:                      # where the board puts it: before the learned rows
+        at = next((k for k, (_, row) in enumerate(scored) if row["kind"] == "learned"), len(scored))
+        scored.insert(at, (PLANNER_ROW, planner_row(refs, r0, r1, bootstrap_reps, poi_reps)))
+    new_rows = dict(scored)
+    fields, upper_deviations = upper_fields(refs, r0, r1, FULL.planner_settings())
     deviations = _with_upper_deviations(t["protocol_deviations"], upper_deviations)
     return {**t, "protocol": not deviations, "protocol_deviations": deviations,
             "references": "stored (agents/data); the scores re-computed against them by rescore (no policy ran again)",

@@ -16,7 +16,8 @@ from agents.leaderboard.tables import summarise
 from agents.references.store import StoredReferences
 from agents.references.tier_gap import paired_ci
 
-__all__ = ["PLANNER_ROW", "score_bounds", "planner_row", "planner_gain", "upper_fields", "is_upper_deviation"]
+__all__ = ["PLANNER_ROW", "score_bounds", "require_planner_settings", "planner_row", "planner_gain", "upper_fields",
+           "is_upper_deviation"]
 
 #: the planner's row on the board (the upper reference)
 PLANNER_ROW = "planner (true simulator, the episode's future)"
@@ -34,6 +35,16 @@ def score_bounds(refs: StoredReferences) -> tuple[np.ndarray, np.ndarray]:
     r0 = np.asarray(refs.validation_constant.returns, dtype=np.float64)
     r1 = scoring.upper_reference(refs.hindsight.returns, None if refs.planner is None else refs.planner.returns)
     return r0, r1
+
+
+def require_planner_settings(refs: StoredReferences, settings: dict[str, Any] | None) -> None:
+    """Raise if the stored planner searched with other settings than ``settings`` (a run's
+    :meth:`PlannerSettings.as_dict`), naming the commands that plan the tier again."""
+    if refs.planner is not None and refs.planner_settings != settings:
+        raise ValueError(f"the stored planner of tier {refs.tier} searched with {refs.planner_settings}, these "
+                         f"settings name {settings}: plan again (`python -m agents.references.planner_runs --tier "
+                         f"{refs.tier} --until HH:MM`, then `python -m agents.leaderboard.reference_parts --tier "
+                         f"{refs.tier} --merge`)")
 
 
 def planner_row(refs: StoredReferences, r0: np.ndarray, r1: np.ndarray, bootstrap_reps: int,
@@ -59,11 +70,12 @@ def planner_gain(refs: StoredReferences) -> dict[str, Any] | None:
     return out
 
 
-def upper_fields(refs: StoredReferences, protocol_planner: dict[str, Any] | None) -> tuple[dict[str, Any], list[str]]:
-    """The tier fields of results.json that describe the upper reference, and the deviations
-    from the protocol it implies (no planner; a planner that searched with other settings than
-    ``protocol_planner``, the protocol's :meth:`PlannerSettings.as_dict`)."""
-    r0, r1 = score_bounds(refs)
+def upper_fields(refs: StoredReferences, r0: np.ndarray, r1: np.ndarray,
+                 protocol_planner: dict[str, Any] | None) -> tuple[dict[str, Any], list[str]]:
+    """The tier fields of results.json that describe the upper reference (``r0``, ``r1``: the
+    score's bounds, :func:`score_bounds`), and the deviations from the protocol it implies (no
+    planner; a planner that searched with other settings than ``protocol_planner``, the
+    protocol's :meth:`PlannerSettings.as_dict`)."""
     deviations = []
     if refs.planner is None:
         deviations.append(_NO_PLANNER)
