@@ -93,28 +93,61 @@ def build_parser() -> argparse.ArgumentParser:
     return ap
 
 
+def run_settings(a: argparse.Namespace) -> dict:
+    """What a stored row depends on besides its seed (a resumed run keeps only rows made so)."""
+    from bearing_gym.envs.provenance import kernel_hash, package_version
+    return {"tier": a.tier, "grid_step_n": a.grid_step,
+            "mpc": {"horizon": a.horizon, "replan_every": a.replan_every, "candidates": len(mpc_candidates())},
+            "kernel_hash": kernel_hash(), "package_version": package_version()}
+
+
+def stored_rows(path: str | None, settings: dict) -> dict[int, dict]:
+    """The scenarios an earlier run with the same settings on the same kernel left in ``path``."""
+    if not path or not Path(path).exists():
+        return {}
+    old = json.loads(Path(path).read_text())
+    if any(old.get(k) != v for k, v in settings.items() if k != "package_version"):
+        return {}
+    return {int(r["seed"]): r for r in old.get("scenarios", [])}
+
+
+def summarise(settings: dict, seeds: list[int], rows: list[dict]) -> dict:
+    """The file's content; ``core_s`` sums the scenarios' wall times (one core each)."""
+    done = sorted(rows, key=lambda r: r["seed"])
+    summary = {**settings, "seeds": [seeds[0], seeds[-1]], "episodes": len(seeds),
+               "complete": len(done) == len(seeds), "core_s": float(sum(r["wall_s"] for r in done)),
+               "scenarios": done}
+    if len(done) >= 2:
+        diff = np.array([r["mpc_return"] - r["hindsight_return"] for r in done])
+        m, lo, hi = paired_ci(diff)
+        summary.update({"mean_mpc_return": float(np.mean([r["mpc_return"] for r in done])),
+                        "mean_hindsight_return": float(np.mean([r["hindsight_return"] for r in done])),
+                        "paired_mpc_minus_hindsight": m, "ci95_low": lo, "ci95_high": hi,
+                        "mpc_wins": int(np.sum(diff > 0))})
+    return summary
+
+
 def main(argv: list[str] | None = None) -> None:
     a = build_parser().parse_args(argv)
-    jobs = [(a.tier, a.seed + i, a.grid_step, a.horizon, a.replan_every) for i in range(a.episodes)]
-    rows = []
-    t0 = time.time()
+    settings = run_settings(a)
+    seeds = [a.seed + i for i in range(a.episodes)]
+    done = stored_rows(a.out, settings)
+    rows = [done[s] for s in seeds if s in done]
+    if rows:
+        print(f"resuming: {len(rows)} of {len(seeds)} scenarios already in {a.out}", flush=True)
+    jobs = [(a.tier, s, a.grid_step, a.horizon, a.replan_every) for s in seeds if s not in done]
     with get_context("spawn").Pool(a.processes) as pool:
-        for k, row in enumerate(pool.imap(scenario_gap, jobs)):
+        for row in pool.imap(scenario_gap, jobs):
             rows.append(row)
-            print(f"[{k + 1}/{len(jobs)}] seed {row['seed']}: MPC {row['mpc_return']:.2f}, hindsight "
+            print(f"[{len(rows)}/{len(seeds)}] seed {row['seed']}: MPC {row['mpc_return']:.2f}, hindsight "
                   f"{row['hindsight_preload_n']:.0f} N {row['hindsight_return']:.2f} ({row['wall_s']:.0f} s)", flush=True)
-    diff = np.array([r["mpc_return"] - r["hindsight_return"] for r in rows])
-    m, lo, hi = paired_ci(diff)
-    summary = {"tier": a.tier, "seeds": [a.seed, a.seed + a.episodes - 1], "episodes": a.episodes,
-               "grid_step_n": a.grid_step, "mpc": {"horizon": a.horizon, "replan_every": a.replan_every,
-                                                    "candidates": len(mpc_candidates())},
-               "mean_mpc_return": float(np.mean([r["mpc_return"] for r in rows])),
-               "mean_hindsight_return": float(np.mean([r["hindsight_return"] for r in rows])),
-               "paired_mpc_minus_hindsight": m, "ci95_low": lo, "ci95_high": hi,
-               "mpc_wins": int(np.sum(diff > 0)), "wall_s": time.time() - t0, "scenarios": rows}
+            if a.out:
+                Path(a.out).write_text(json.dumps(summarise(settings, seeds, rows), indent=1))
+    summary = summarise(settings, seeds, rows)
     print(f"{a.tier}: MPC {summary['mean_mpc_return']:.2f}, hindsight constant "
-          f"{summary['mean_hindsight_return']:.2f}, paired {m:+.2f} [{lo:+.2f}, {hi:+.2f}] "
-          f"(MPC better in {summary['mpc_wins']}/{a.episodes}), {summary['wall_s'] / 60:.1f} min")
+          f"{summary['mean_hindsight_return']:.2f}, paired {summary['paired_mpc_minus_hindsight']:+.2f} "
+          f"[{summary['ci95_low']:+.2f}, {summary['ci95_high']:+.2f}] (MPC better in {summary['mpc_wins']}/"
+          f"{len(seeds)}), {summary['core_s'] / 3600:.2f} core-hours")
     if a.out:
         Path(a.out).write_text(json.dumps(summary, indent=1))
 
