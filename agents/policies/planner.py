@@ -28,7 +28,15 @@ pull the rotor off a quasi-periodic orbit that the level it returns to keeps),
 intervals) and ``jumps_n`` every 200 N from 300 to 1900 N. They were chosen on the `transient` test
 episodes where the trained policies had found a higher return than the plain search (which ended
 below a learned policy on 3.7-4.6 % of their episode scores); with them a learned policy ends above
-the planner on 2 of the 1,100 `transient` scores (PPO, seeds 300063 and 300071). Off unless asked:
+the planner on 2 of the 1,100 `transient` scores (PPO, seeds 300063 and 300071). On `field` they
+still ended below a learned policy on 2.7-4.3 % of the scores: the policies there kick the preload
+high, then bring it down within about 10 intervals to 300 N and stay there on a periodic orbit (a
+low preload that, held from the start or reached from the incumbent, is quasi-periodic). So the
+default ends with a fifth search, the *settle pass* (``settle_pass``): one more sweep of the
+decisions from t = 0 that tries only such plans - a kick at 2000 N for 3, 6 or 10 intervals, a ramp
+down over 6 intervals to a ``jumps_n`` level, that level to the end. It runs after the rest, so a
+stored run of the search before it (``PlannerSettings.before_settle``) is resumed by running the
+settle pass alone (``plan_episode(resume=...)``): the same plan, bit for bit. Off unless asked:
 ``beam_starts_n`` (the whole search again from other constants, the best plan kept), ``passes``
 (sweep the decisions again from t = 0 with the plan the last pass left) and a warm start
 (``warm_plan_n``: a plan found before is the incumbent if it beats the hindsight constant).
@@ -38,16 +46,20 @@ reward), so the real env's return equals the incumbent's, which never decreases:
 ends below the hindsight best constant** (checked on every run). Given the hindsight constant of a
 stored sweep of the same episode (the test references' sweep parts), step 1 is skipped; as the
 default reward is a sum of costs, a candidate's rollout stops once its running return is at or below
-the incumbent's (it can only fall further). Cost on `transient` (100 test episodes, from the stored
-sweep): 12,000 env steps per episode on average (at most 19,400), 62 s on one core of the 2-core VM
-with the other busy; 1.7 core-hours per tier. :class:`ScheduledPreload` replays plans as a policy,
+the incumbent's (it can only fall further). Cost of the default search, from the stored sweep, on
+one core of the 2-core VM with the other busy: on `transient` 22,000 env steps per episode on
+average (at most 43,400) and 114 s, 3.2 core-hours per tier; on `field` 17,700 and 95 s, 2.7
+core-hours. The settle pass is 10,000 and 7,300 of those steps (52 and 38 s); it raised the
+plan on 17 of the 100 `field` test episodes (by up to 24.6 reward units; learned scores above
+the planner from 2.7-4.3 % to 1.0-1.7 %) and on 9 of `transient`'s (PPO's scores above it from 2 to
+1 of 300). :class:`ScheduledPreload` replays plans as a policy,
 so a plan's metrics come from the same evaluation loop as every other row's.
 """
 
 from __future__ import annotations
 
 import time
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 from typing import Any
 
 import numpy as np
@@ -74,16 +86,18 @@ class PlannerSettings:
     jumps_n: tuple[float, ...] = (300.0, 500.0, 700.0, 900.0, 1100.0, 1300.0, 1500.0, 1700.0, 1900.0)
     #: one block at each of these levels, then back to the incumbent (a temporary change anywhere)
     block_levels_n: tuple[float, ...] = (2000.0,)
-    #: also decide at t = 0 (blocks at the start: e.g. a ramp from the initial preload)
+    #: also decide at t = 0 (blocks at the start: e.g. a ramp from the initial preload; in the
+    #: settle pass too: a kick from the start)
     decide_at_start: bool = True
     #: sweeps of the decisions over the episode; each later one starts from the plan the last left
+    #: (the settle pass, after them, is one sweep)
     passes: int = 1
     #: with ``decide_at_start``: ramp linearly from the episode's initial preload to the
     #: incumbent's set-point over each of these numbers of intervals (a slow way from the start:
     #: a sudden one can ring the rotor quasi-periodic)
     start_ramp_intervals: tuple[int, ...] = (3, 6, 10, 15)
     #: run the whole search again from each of these constants too; the best plan wins (a search
-    #: from the hindsight constant alone stays near it)
+    #: from the hindsight constant alone stays near it) and the settle pass runs once, on it
     beam_starts_n: tuple[float, ...] = ()
     #: the lengths (control intervals) of the ``block_levels_n`` blocks; empty: ``replan_every``
     #: (a short block at the top preload is a kick: it can pull the rotor off a quasi-periodic
@@ -93,6 +107,14 @@ class PlannerSettings:
     #: is also tried as a linear ramp down to it over each of these numbers of intervals (a sudden
     #: drop can ring the rotor quasi-periodic; a rise only stiffens it)
     ramp_down_intervals: tuple[int, ...] = (6,)
+    #: after the search, one more sweep of the decisions from t = 0 that tries only kick-and-settle
+    #: plans (:func:`_settle_candidates`): a ``block_levels_n`` block of each ``block_intervals``
+    #: length (empty: ``replan_every``), then a ramp down over each ``ramp_down_intervals`` length
+    #: (empty: a step) to each lower ``jumps_n`` level in the actuator's range, held to the end (a
+    #: kick can put the rotor on a periodic orbit that persists down to a preload where, reached
+    #: otherwise, it is quasi-periodic). Without ``block_levels_n`` or ``jumps_n`` it has nothing
+    #: to try and is left out (:attr:`settles`)
+    settle_pass: bool = True
 
     def __post_init__(self):
         for name in ("replan_every", "passes"):
@@ -108,8 +130,18 @@ class PlannerSettings:
     def plain(cls, **fields: Any) -> "PlannerSettings":
         """The plain search (steps 1-3 of the module docstring; the wider searches off), ``fields`` changed."""
         off: dict[str, Any] = {"block_levels_n": (), "decide_at_start": False, "start_ramp_intervals": (),
-                               "block_intervals": (), "ramp_down_intervals": ()}
+                               "block_intervals": (), "ramp_down_intervals": (), "settle_pass": False}
         return cls(**{**off, **fields})
+
+    @property
+    def settles(self) -> bool:
+        """Whether the settle pass runs: asked for, and with kicks and levels to try."""
+        return self.settle_pass and bool(self.block_levels_n) and bool(self.jumps_n)
+
+    def before_settle(self) -> "PlannerSettings":
+        """The search up to the settle pass: a run of these settings is the first stage of a run
+        of ``self`` (:func:`plan_episode`'s ``resume``)."""
+        return replace(self, settle_pass=False)
 
     def as_dict(self) -> dict[str, Any]:
         """The settings as stored with each run (the searches added after the plain one only where
@@ -131,6 +163,8 @@ class PlannerSettings:
             out["block_intervals"] = list(self.block_intervals)
         if self.ramp_down_intervals:
             out["ramp_down_intervals"] = list(self.ramp_down_intervals)
+        if self.settles:
+            out["settle_pass"] = True
         return out
 
 
@@ -138,7 +172,8 @@ class PlannerSettings:
 class PlanResult:
     """One episode's plan: ``plan_n`` (one set-point per interval), its return (the real env's),
     the hindsight best constant it started from and what the search cost (``accepted``: the
-    decisions that changed the plan)."""
+    decisions that changed the plan; a resumed run's counts, env steps and wall time include the
+    stored run's, its env steps leave out the check of the stored plan)."""
 
     seed: int
     plan_n: np.ndarray
@@ -301,26 +336,72 @@ def _candidates(plan: np.ndarray, t: int, s: PlannerSettings, ep: _Episode, swep
     return out
 
 
+def _settle_candidates(plan: np.ndarray, t: int, s: PlannerSettings, ep: _Episode) -> list[np.ndarray]:
+    """The settle pass's plans at decision t: a block at each ``block_levels_n`` level for each
+    ``block_intervals`` length, then a linear ramp down over each ``ramp_down_intervals`` length
+    (none: a step) to each lower ``jumps_n`` level, held to the episode's end."""
+    T = len(plan)
+    out: list[np.ndarray] = []
+    for top in s.block_levels_n:
+        for n in s.block_intervals or (s.replan_every,):
+            for v in s.jumps_n:
+                if not (ep.in_range(top) and ep.in_range(v) and v < top and t + n < T):
+                    continue
+                for k in s.ramp_down_intervals or (0,):
+                    p = plan.copy()
+                    p[t:t + n] = top
+                    m = min(k, T - t - n)
+                    p[t + n:t + n + m] = top + (v - top) * np.arange(1, m + 1) / (k + 1)
+                    p[t + n + m:] = v
+                    if not np.array_equal(p, plan) and not any(np.array_equal(p, q) for q in out):
+                        out.append(p)
+    return out
+
+
 def plan_episode(tier: str, seed: int, episode_steps: int = EPISODE_STEPS,
                  settings: PlannerSettings = PlannerSettings(), env_kwargs: dict | None = None,
                  hindsight: tuple[float, float] | None = None, prune: bool = True,
-                 warm_plan_n: np.ndarray | None = None) -> PlanResult:
+                 warm_plan_n: np.ndarray | None = None, resume: PlanResult | None = None) -> PlanResult:
     """Plan one episode (module docstring); deterministic. ``hindsight`` = (the hindsight best
     constant, its return) from a stored sweep of the same grid on this episode replaces step 1
     (a third of the cost); the run then checks it: with no change accepted, the real episode
     must return the stored return bit for bit. ``prune`` stops candidate rollouts that can no
     longer win (:meth:`_Episode.rollouts`; the same plan, fewer env steps). ``warm_plan_n`` (a
     plan found before, e.g. by other settings) is rolled out from t = 0 and becomes the incumbent
-    if it returns more than the hindsight constant: the search goes on from there."""
+    if it returns more than the hindsight constant: the search goes on from there.
+
+    ``resume``: a stored run of this episode with ``settings.before_settle()`` (the search up to
+    the settle pass). Its plan is rolled out once (it must return what was stored, bit for bit)
+    and only the settle pass runs: the same plan and return, bit for bit, as a run of ``settings``
+    from the start with the stored run's start (its hindsight constant; a warm plan, ``prune`` and
+    ``env_kwargs`` it had are assumed, not stored), at the cost of the settle pass; the result's
+    counts and cost include the stored run's."""
     t_start = time.perf_counter()
     s = settings
     grid = preload_grid(s.grid_step_n)
     local = (len(s.local_n) + len(s.block_n) + len(s.jumps_n)                 # candidates at most
              + len(s.block_levels_n) * max(1, len(s.block_intervals)) + len(s.start_ramp_intervals)
              + (len(s.local_n) + len(s.jumps_n)) * len(s.ramp_down_intervals))
+    if s.settles:
+        local = max(local, len(s.block_levels_n) * max(1, len(s.block_intervals)) * len(s.jumps_n)
+                    * max(1, len(s.ramp_down_intervals)))
     swept = frozenset(float(p) for p in grid)
     T = episode_steps
     source = "sweep" if hindsight is None else "stored"
+    counts = [0, 0]                       # decisions, those that changed the plan
+    earlier_steps, earlier_s = 0, 0.0     # a resumed run's stored cost
+    if resume is not None:
+        if warm_plan_n is not None or hindsight is not None:
+            raise ValueError("planner: a resumed run brings its own start; give no warm plan or hindsight with it")
+        if not s.settles or resume.settings != s.before_settle().as_dict():
+            raise ValueError(f"planner, tier {tier} seed {seed}: resume takes a run with the settings before the "
+                             f"settle pass {s.before_settle().as_dict()}, got {resume.settings}")
+        if resume.seed != seed or len(resume.plan_n) != T:
+            raise ValueError(f"planner: resume holds seed {resume.seed} with {len(resume.plan_n)} intervals, "
+                             f"asked for seed {seed} with {T}")
+        hindsight, source = (resume.hindsight_preload_n, resume.hindsight_return), resume.hindsight_from
+        counts = [resume.decisions, resume.accepted]
+        earlier_steps, earlier_s = resume.env_steps, resume.wall_s
     if hindsight is None:
         # 1. the hindsight best constant: the incumbent (first best on ties, as hindsight_constant)
         ep = _Episode(tier, seed, episode_steps, max(len(grid), local), env_kwargs)
@@ -343,19 +424,20 @@ def plan_episode(tier: str, seed: int, episode_steps: int = EPISODE_STEPS,
         total = _sequential_sum(ep.rollouts([warm], 0)[0])
         if total > incumbent:
             plan, incumbent = warm.copy(), total
-    # 2-3. decisions along the incumbent's course, ``passes`` times
-    counts = [0, 0]                       # decisions, those that changed the plan
 
-    def search(plan: np.ndarray, incumbent: float) -> tuple[np.ndarray, float, float, bool]:
-        """The decisions from the real env at t = 0 (env 0 must stand there)."""
-        for sweep_k in range(s.passes):
+    def search(plan: np.ndarray, incumbent: float, propose, passes: int,
+               from_hindsight: bool = True) -> tuple[np.ndarray, float, float, bool]:
+        """``passes`` sweeps of the decisions trying ``propose(plan, t)``; env 0 must stand at t = 0.
+        ``from_hindsight``: ``incumbent`` may be a stored sweep's return (so a mismatch with no change
+        accepted may mean a stale store)."""
+        for sweep_k in range(passes):
             if sweep_k > 0:
                 ep.restart(seed)
             prefix: list[float] = []
             ended = False
             for t in range(0, T, s.replan_every):
                 if t > 0 or s.decide_at_start:
-                    cands = _candidates(plan, t, s, ep, swept)
+                    cands = propose(plan, t)
                     counts[0] += 1
                     changed = False
                     bound = (_sequential_sum(prefix), incumbent) if prune else None
@@ -369,7 +451,7 @@ def plan_episode(tier: str, seed: int, episode_steps: int = EPISODE_STEPS,
                 if ended:
                     break
         real = _sequential_sum(prefix)
-        if real != incumbent and source == "stored" and not counts[1]:
+        if real != incumbent and from_hindsight and source == "stored" and not counts[1]:
             raise RuntimeError(f"planner, tier {tier} seed {seed}: the hindsight constant {hindsight[0]:.0f} N returned "
                                f"{real!r}, the stored sweep {hindsight[1]!r}: the stored sweep is stale")
         if real != incumbent:
@@ -377,18 +459,35 @@ def plan_episode(tier: str, seed: int, episode_steps: int = EPISODE_STEPS,
                                f"rollout {incumbent!r}; the episode is not deterministic (a copy differs from its source)")
         return plan, incumbent, real, ended
 
-    plan, incumbent, real, ended = search(plan, incumbent)
-    for v in s.beam_starts_n:             # the same search from other constants; the best plan wins
-        if not ep.in_range(v):
-            continue
-        ep.restart(seed)                  # rollouts step copies only: env 0 stays at t = 0 for search
-        start = np.full(T, float(v))
-        other = search(start, _sequential_sum(ep.rollouts([start], 0)[0]))
-        if other[1] > incumbent:
-            plan, incumbent, real, ended = other
+    def wide(plan: np.ndarray, t: int) -> list[np.ndarray]:
+        return _candidates(plan, t, s, ep, swept)
+
+    if resume is None:
+        plan, incumbent, real, ended = search(plan, incumbent, wide, s.passes)
+        for v in s.beam_starts_n:         # the same search from other constants; the best plan wins
+            if not ep.in_range(v):
+                continue
+            ep.restart(seed)              # rollouts step copies only: env 0 stays at t = 0 for search
+            start = np.full(T, float(v))
+            other = search(start, _sequential_sum(ep.rollouts([start], 0)[0]), wide, s.passes)
+            if other[1] > incumbent:
+                plan, incumbent, real, ended = other
+    else:
+        plan = np.asarray(resume.plan_n, dtype=float).copy()
+        steps_before = ep.steps
+        incumbent = _sequential_sum(ep.rollouts([plan], 0)[0])
+        ep.steps = steps_before           # the check is not part of the search's cost
+        if incumbent != resume.return_:
+            raise RuntimeError(f"planner, tier {tier} seed {seed}: the stored plan returned {incumbent!r}, the stored "
+                               f"run {resume.return_!r}: the stored run is stale")
+        real, ended = incumbent, resume.terminated
+    if s.settles:
+        ep.restart(seed)
+        plan, incumbent, real, ended = search(plan, incumbent, lambda p, t: _settle_candidates(p, t, s, ep), 1,
+                                              from_hindsight=False)
     decisions, accepted = counts
-    return PlanResult(seed, plan, real, hindsight[0], hindsight[1], decisions, accepted, ep.steps,
-                      time.perf_counter() - t_start, ended, s.as_dict(), source)
+    return PlanResult(seed, plan, real, hindsight[0], hindsight[1], decisions, accepted, earlier_steps + ep.steps,
+                      earlier_s + time.perf_counter() - t_start, ended, s.as_dict(), source)
 
 
 class ScheduledPreload(Policy):

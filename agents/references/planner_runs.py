@@ -8,7 +8,9 @@ it was on.
 
 Files: ``agents/data/planner_<tier>/seed_<seed>.json`` (the plan, its return, the hindsight
 constant it started from, the search's cost, the kernel fingerprint and the planner settings).
-An episode made by another kernel or with other settings counts as missing and is planned again.
+An episode made by another kernel or with other settings counts as missing and is planned again;
+one stored with the settings before the settle pass (``PlannerSettings.before_settle``) is
+resumed: only the settle pass runs, and the plan is the one a whole run would give, bit for bit.
 The test episodes are the protocol's (``TEST.start`` on, ``episodes_for_tier``). Where the tier's
 test-reference sweep parts (:func:`agents.references.store.stored_hindsight`) already hold the
 episode's hindsight constant, the planner starts from it instead of sweeping the grid again.
@@ -38,8 +40,10 @@ from agents.references.store import stored_hindsight
 
 __all__ = ["planner_dir", "episode_path", "missing", "load_plans", "replay", "run", "main"]
 
-#: measured on the 2-core development VM (one episode, the other core busy): the --until estimate
-NOMINAL_EPISODE_S = 120.0
+#: the --until estimate before an episode of this run is done: a whole episode took 95-125 s on
+#: average on `field` and `transient` on the 2-core development VM (the other core busy), a
+#: resumed one (the settle pass alone) about a third of that
+NOMINAL_EPISODE_S = 150.0
 
 
 def planner_dir(tier: str, data_dir: Path = DATA_DIR) -> Path:
@@ -116,10 +120,15 @@ def run(tier: str, seeds: list[int], settings: PlannerSettings = PlannerSettings
                 print(f"stopping: the next episode (~{estimate / 60:.1f} min) would not finish by {deadline:%H:%M}")
                 break
         t0 = time.perf_counter()
-        res = plan_episode(tier, seed, episode_steps, settings,
-                           hindsight=stored_hindsight(tier, seed, settings.grid_step_n, episode_steps, data_dir))
-        spent.append(time.perf_counter() - t0)
         path = episode_path(tier, seed, data_dir)
+        if settings.settles and _fresh(path, settings.before_settle(), episode_steps):
+            # the search up to the settle pass is stored: only the settle pass runs (the same bits)
+            res = plan_episode(tier, seed, episode_steps, settings,
+                               resume=PlanResult.from_json(json.loads(path.read_text())))
+        else:
+            res = plan_episode(tier, seed, episode_steps, settings,
+                               hindsight=stored_hindsight(tier, seed, settings.grid_step_n, episode_steps, data_dir))
+        spent.append(time.perf_counter() - t0)
         path.parent.mkdir(parents=True, exist_ok=True)
         path.write_text(json.dumps({"tier": tier, "kernel_hash": kernel_hash(), "episode_steps": episode_steps,
                                     **res.to_json()}) + "\n")

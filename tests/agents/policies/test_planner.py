@@ -70,19 +70,19 @@ def test_the_wider_search_only_adds_to_the_plain_one():
     """The searches added for a tighter bound (block levels, a decision at t = 0 with ramps from the
     initial preload, a second pass, a warm start from a plan found before) are stored only where
     they are on, so the plain search keeps its stored settings; the defaults switch four of them
-    on. Switched on, the plan here ends at or above the plain one's (likely, not guaranteed: a
+    on (and the settle pass, tested below). Switched on, the plan here ends at or above the plain one's (likely, not guaranteed: a
     change accepted early changes what the later decisions see; what is guaranteed is the
     hindsight constant, tested above) and replays bit for bit; a warm plan is the incumbent when it is better."""
     plain_keys = {"replan_every", "grid_step_n", "local_n", "block_n", "jumps_n"}
     assert set(SMALL.as_dict()) == plain_keys
     assert set(PlannerSettings().as_dict()) == plain_keys | {"block_levels_n", "decide_at_start", "start_ramp_intervals",
-                                                             "block_intervals", "ramp_down_intervals"}
+                                                             "block_intervals", "ramp_down_intervals", "settle_pass"}
     tier, seed = "transient", 300016
     plain = plan_episode(tier, seed, episode_steps=STEPS, settings=SMALL)
     wide_s = PlannerSettings(replan_every=4, grid_step_n=425.0, local_n=(-100.0, 100.0), block_n=(50.0,),
                              jumps_n=(300.0, 2000.0), block_levels_n=(300.0, 1150.0, 2000.0),
                              decide_at_start=True, passes=2, start_ramp_intervals=(1, 2, 3),
-                             beam_starts_n=(2000.0,))
+                             beam_starts_n=(2000.0,), settle_pass=False)
     assert wide_s.as_dict()["passes"] == 2 and wide_s.as_dict()["start_ramp_intervals"] == [1, 2, 3]
     wide = plan_episode(tier, seed, episode_steps=STEPS, settings=wide_s)
     assert wide.return_ >= plain.return_ and wide.decisions == 2 * 2 * len(range(0, STEPS, 4))   # 2 starts x 2 passes
@@ -146,3 +146,57 @@ def test_a_drop_wider_than_the_local_steps_is_also_tried_as_a_ramp():
     np.testing.assert_allclose(ramps[0][8:16], [1500.0, 1500.0, 1260.0, 1020.0, 780.0, 540.0, 300.0, 300.0],
                                rtol=0, atol=1e-9)
     assert PlannerSettings.plain(ramp_down_intervals=(3,)).as_dict()["ramp_down_intervals"] == [3]
+
+
+def test_settle_candidates_kick_then_ramp_down_to_each_lower_level():
+    """The settle pass's plans at t: ``block_levels_n`` for each ``block_intervals`` length, then
+    a linear ramp down over each ``ramp_down_intervals`` length to each lower ``jumps_n`` level,
+    held to the end; the plan before t is the incumbent's. Here 2000 N for 3 intervals from t = 10,
+    then 2000 -> 500 N over 2 intervals (2000 - 1500/3 = 1500, 1000) and 500 N to the end; the 2000 N
+    jump is no lower level and 2500 N is out of range."""
+    from agents.policies.planner import _settle_candidates
+    s = PlannerSettings(replan_every=10, jumps_n=(500.0, 1100.0, 2000.0, 2500.0), block_levels_n=(2000.0,),
+                        block_intervals=(3, 6), ramp_down_intervals=(2,))
+    plan = np.full(30, 1500.0)
+    cands = _settle_candidates(plan, 10, s, _Range)
+    assert len(cands) == 2 * 2                                       # 2 kick lengths x 2 lower levels
+    assert all(np.all(c[:10] == 1500.0) for c in cands)
+    one = [c for c in cands if c[-1] == 500.0 and (c == 2000.0).sum() == 3]
+    assert len(one) == 1
+    np.testing.assert_allclose(one[0][10:17], [2000.0, 2000.0, 2000.0, 1500.0, 1000.0, 500.0, 500.0], rtol=0, atol=1e-9)
+    assert _settle_candidates(plan, 25, s, _Range)[0][25:].tolist() == [2000.0, 2000.0, 2000.0, 1500.0, 1000.0]
+    assert _settle_candidates(plan, 28, s, _Range) == []             # no interval left after the kick
+    cut = [c for c in _settle_candidates(plan, 26, s, _Range) if (c == 2000.0).sum() == 3]
+    assert [c[26:].tolist() for c in cut] == [[2000.0, 2000.0, 2000.0, 1500.0], [2000.0, 2000.0, 2000.0, 1700.0]]
+    step = PlannerSettings(jumps_n=(500.0,), block_levels_n=(2000.0,), block_intervals=(2,), ramp_down_intervals=())
+    assert _settle_candidates(plan, 0, step, _Range)[0][:4].tolist() == [2000.0, 2000.0, 500.0, 500.0]
+    # with no kick level or no level to settle to there is no settle pass, and none is stored
+    assert not PlannerSettings(block_levels_n=()).settles and "settle_pass" not in PlannerSettings(jumps_n=()).as_dict()
+
+
+def test_the_settle_pass_resumed_from_the_search_before_it_is_the_same_plan():
+    """A run of the search up to the settle pass (``before_settle()``), stored and resumed, ends
+    with the same plan and return, bit for bit, as the whole search run at once, at the settle
+    pass's cost; a resume with other settings or a stale stored return is refused."""
+    tier, seed, steps = "field", 300051, 32           # an episode where the settle pass changes the plan
+    full_s = PlannerSettings(replan_every=4, grid_step_n=425.0, local_n=(-100.0, 100.0), block_n=(50.0,),
+                             jumps_n=(300.0, 700.0, 1100.0), block_levels_n=(2000.0,), block_intervals=(3,),
+                             ramp_down_intervals=(3,), decide_at_start=True, start_ramp_intervals=())
+    assert full_s.settle_pass and not full_s.before_settle().settle_pass
+    whole = plan_episode(tier, seed, episode_steps=steps, settings=full_s)
+    first = plan_episode(tier, seed, episode_steps=steps, settings=full_s.before_settle())
+    stored = PlanResult.from_json(first.to_json())
+    resumed = plan_episode(tier, seed, episode_steps=steps, settings=full_s, resume=stored)
+    assert resumed.return_ == whole.return_ and np.array_equal(resumed.plan_n, whole.plan_n)
+    assert (resumed.decisions, resumed.accepted, resumed.env_steps) == (whole.decisions, whole.accepted, whole.env_steps)
+    assert whole.accepted > first.accepted and whole.return_ > first.return_ and whole.settings["settle_pass"] is True
+    assert whole.decisions == 2 * len(range(0, steps, 4))            # the search and the settle pass
+    replay = run_policies([ScheduledPreload([whole.plan_n])], 1, seed, steps, env_kwargs={"tier": tier})[0]
+    assert replay.returns[0] == whole.return_
+    with pytest.raises(ValueError, match="settings before the settle pass"):
+        plan_episode(tier, seed, episode_steps=steps, settings=full_s, resume=whole)
+    with pytest.raises(ValueError, match="brings its own start"):
+        plan_episode(tier, seed, episode_steps=steps, settings=full_s, resume=stored, hindsight=(1000.0, -1.0))
+    stale = PlanResult.from_json({**first.to_json(), "return": first.return_ + 1.0})
+    with pytest.raises(RuntimeError, match="stored run is stale"):
+        plan_episode(tier, seed, episode_steps=steps, settings=full_s, resume=stale)
