@@ -286,6 +286,12 @@ class _Episode:
         return out, False
 
 
+def _add_new(out: list[np.ndarray], p: np.ndarray, plan: np.ndarray) -> None:
+    """Append candidate ``p`` unless it is the incumbent ``plan`` or already in ``out``."""
+    if not np.array_equal(p, plan) and not any(np.array_equal(p, q) for q in out):
+        out.append(p)
+
+
 def _candidates(plan: np.ndarray, t: int, s: PlannerSettings, ep: _Episode, swept: frozenset[float]) -> list[np.ndarray]:
     """The plans tried at decision t (module docstring). At t = 0 a new level held from t is a
     constant plan: those of the hindsight sweep (``swept``) are left out, as none can beat the
@@ -295,8 +301,7 @@ def _candidates(plan: np.ndarray, t: int, s: PlannerSettings, ep: _Episode, swep
     out: list[np.ndarray] = []
 
     def add(p: np.ndarray) -> None:
-        if not np.array_equal(p, plan) and not any(np.array_equal(p, q) for q in out):
-            out.append(p)
+        _add_new(out, p, plan)
 
     def hold(v: float) -> None:
         if ep.in_range(v) and not (t == 0 and v in swept):
@@ -353,8 +358,7 @@ def _settle_candidates(plan: np.ndarray, t: int, s: PlannerSettings, ep: _Episod
                     m = min(k, T - t - n)
                     p[t + n:t + n + m] = top + (v - top) * np.arange(1, m + 1) / (k + 1)
                     p[t + n + m:] = v
-                    if not np.array_equal(p, plan) and not any(np.array_equal(p, q) for q in out):
-                        out.append(p)
+                    _add_new(out, p, plan)
     return out
 
 
