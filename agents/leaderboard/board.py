@@ -72,7 +72,7 @@ from agents.references.contextual_fit import fit_contextual
 from agents.leaderboard.tables import summarise, to_markdown
 from agents.evaluation.trained import PRETRAINED_DIR, SB3Policy, load_trained, shipped_dirs
 from agents.evaluation.episodes import hindsight_preloads, run_policies, sweep_row
-from agents.policies.oracle import MapOracle
+from agents.policies.oracle import TABLE_PATH as ORACLE_TABLE, MapOracle
 from agents.policies.scripted import ConstantPreload
 from agents.references.store import STORE_PATH, ValidationChoice, load_choice, save_choice
 from agents.references.validation import choose_validation_constant, hindsight_grid, hindsight_reference
@@ -227,13 +227,13 @@ def _inference(policies: list) -> str:
 def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = STORE_PATH,
              contextual_dir: Path = DATA_DIR, out_dir: Path = Path("."),
              progress: bool = True, stored: StoredReferences | None = None,
-             save_references_to: Path | None = None) -> dict[str, Any]:
+             save_references_to: Path | None = None, oracle_table: Path = ORACLE_TABLE) -> dict[str, Any]:
     """Every reference and learned row of ``tier``, as the tier's object of results.json.
 
     With ``stored`` the validation constant, hindsight and planner rows are the stored ones
     (:mod:`agents.references.store`; the validation constant runs again beside the policies
     and must reproduce its stored returns); else they are computed, and written to
-    ``save_references_to`` if given."""
+    ``save_references_to`` if given. The oracle's row reads its table from ``oracle_table``."""
     t0 = time.time()
     if stored is not None:             # another kernel's store: refuse before running anything
         stored.check_kernel(f"python -m agents.leaderboard --tier {tier}")
@@ -252,7 +252,7 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
     r0, r1 = score_bounds(refs)
     shape = f"{s.episodes} test episodes of {s.episode_steps} steps"
     live_constant = [ConstantPreload(choice.preload_n)] if stored is not None else []
-    policies = live_constant + [contextual, MapOracle()] + [p for g in groups for p in g.policies]
+    policies = live_constant + [contextual, MapOracle(oracle_table)] + [p for g in groups for p in g.policies]
     ran = run_policies(policies, s.episodes, seeds.start, s.episode_steps, env_kwargs={"tier": tier},
                        progress=f"{tier} stage {_stages(s, stored)}/{_stages(s, stored)}: {len(policies)} policies x {shape}"
                        if progress else None)

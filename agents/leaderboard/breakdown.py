@@ -139,8 +139,9 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     ap.add_argument("--tier", default="transient")
     ap.add_argument("--row", default="SAC", help="the row's name or its start (one row must match)")
     ap.add_argument("--out", default=None, help="markdown file (default: print)")
+    ap.add_argument("--references-dir", default=str(DATA_DIR), help="where the stored test references are")
     args = ap.parse_args(argv)
-    b = breakdown(json.loads(Path(args.results).read_text()), args.tier, args.row)
+    b = breakdown(json.loads(Path(args.results).read_text()), args.tier, args.row, Path(args.references_dir))
     md = to_markdown(b)
     if args.out:
         Path(args.out).write_text(md)

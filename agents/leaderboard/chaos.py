@@ -41,10 +41,11 @@ from agents.evaluation.episodes import run_policies
 from agents.policies.scripted import ConstantPreload
 from agents.leaderboard.upper import score_bounds
 from agents.protocol import held_out_seeds
-from agents.references.store import load_choice, load_references
+from agents.references.store import DATA_DIR, STORE_PATH, load_choice, load_references
 
 
-__all__ = ["perturbation", "replica_returns", "summarise", "main", "RELATIVE_PERTURBATION"]
+__all__ = ["perturbation", "replica_returns", "summarise", "default_policies", "replica_path", "run_replica",
+           "write_summary", "main", "RELATIVE_PERTURBATION"]
 
 RELATIVE_PERTURBATION = 1e-15
 
@@ -102,14 +103,14 @@ def summarise(returns: dict[str, np.ndarray], r0: np.ndarray | None = None,
     return out
 
 
-def _score_bounds(tier: str, episodes: int, constant_n: float,
-                  constant_returns: np.ndarray) -> tuple[np.ndarray | None, np.ndarray | None, str]:
+def _score_bounds(tier: str, episodes: int, constant_n: float, constant_returns: np.ndarray,
+                  references_dir: Path = DATA_DIR) -> tuple[np.ndarray | None, np.ndarray | None, str]:
     """The score's 0 and 1 on the first ``episodes`` test episodes from the tier's stored test
     references (:func:`agents.leaderboard.upper.score_bounds`), if they were made by this kernel
     for the constant this run used (``constant_n``, whose unperturbed returns must be the stored
     ones bit for bit); else (None, None, why not)."""
     try:
-        refs = load_references(tier)
+        refs = load_references(tier, references_dir)
         refs.check_kernel(f"python -m agents.leaderboard --tier {tier}")
         refs = refs.first(episodes)
         if refs.validation_preload_n != constant_n:
@@ -123,9 +124,58 @@ def _score_bounds(tier: str, episodes: int, constant_n: float,
                     f"1 = {upper}")
 
 
-def default_policies(tier: str, pretrained_dir: Path = PRETRAINED_DIR) -> list:
-    choice = load_choice(tier)
+def default_policies(tier: str, pretrained_dir: Path = PRETRAINED_DIR, store: Path = STORE_PATH) -> list:
+    """The validation-chosen constant of ``tier`` (from ``store``), then the shipped policies
+    through the portable float64 path."""
+    choice = load_choice(tier, store)
     return [ConstantPreload(choice.preload_n)] + [load_trained(d, portable=True) for d in shipped_dirs(pretrained_dir)]
+
+
+def replica_path(out: Path, replica: int) -> Path:
+    """Where replica ``replica`` of the summary ``out`` is kept (``<out stem>_parts/replica_<r>.json``)."""
+    return out.with_name(out.stem + "_parts") / f"replica_{replica}.json"
+
+
+def run_replica(policies: list, tier: str, episodes: int, replica: int, out: Path,
+                episode_steps: int = EPISODE_STEPS) -> Path:
+    """Replica ``replica`` of the summary ``out``, written to :func:`replica_path` - unless a
+    file made for this tier, episode count, kernel and policy set is there already."""
+    path = replica_path(out, replica)
+    if path.exists():
+        done = json.loads(path.read_text())
+        if (done.get("tier"), done.get("episodes"), done.get("kernel_hash"), sorted(done["returns"])) == \
+                (tier, episodes, kernel_hash(), sorted(p.name for p in policies)):
+            print(f"replica {replica}: done before ({path})", flush=True)
+            return path
+        print(f"replica {replica}: {path} was made for another tier, episode count, kernel or policy set: "
+              "computing it again", flush=True)
+    t = time.time()
+    rows = replica_returns(policies, tier, episodes, replica, episode_steps)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_suffix(".tmp")
+    tmp.write_text(json.dumps({"tier": tier, "replica": replica, "episodes": episodes, "kernel_hash": kernel_hash(),
+                               "relative_perturbation": RELATIVE_PERTURBATION if replica else 0.0,
+                               "wall_s": time.time() - t, "returns": rows}) + "\n")
+    tmp.replace(path)
+    print(f"replica {replica}: wrote {path} ({time.time() - t:.0f} s)", flush=True)
+    return path
+
+
+def write_summary(out: Path, tier: str, episodes: int, replicas: int, constant_name: str, constant_n: float,
+                  command: str, references_dir: Path = DATA_DIR) -> dict[str, Any]:
+    """The summary of replicas 0..``replicas`` (every one written by :func:`run_replica`), scored
+    against the stored test references in ``references_dir`` when they fit the validation
+    constant (``constant_name``: its row, ``constant_n`` N), written to ``out``."""
+    reps = [json.loads(replica_path(out, r).read_text()) for r in range(replicas + 1)]
+    names = list(reps[0]["returns"])
+    returns = {n: np.array([rep["returns"][n] for rep in reps]) for n in names}
+    r0, r1, scored_against = _score_bounds(tier, episodes, constant_n, returns[constant_name][0], references_dir)
+    summary = {"about": __doc__.split("\n\n")[0], "tier": tier, "episodes": episodes, "kernel_hash": kernel_hash(),
+               "replicas": replicas, "relative_perturbation": RELATIVE_PERTURBATION, "command": command,
+               "wall_s": sum(rep["wall_s"] for rep in reps), "scores_against": scored_against,
+               "policies": summarise(returns, r0, r1)}
+    out.write_text(json.dumps(summary, indent=1) + "\n")
+    return summary
 
 
 def main(argv: list[str] | None = None) -> int:
@@ -135,44 +185,20 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--replicas", type=int, default=5, help="perturbed replicas besides the unperturbed one")
     ap.add_argument("--episodes", type=int, default=100, help="first N test episodes")
     ap.add_argument("--out", default=None, help="summary JSON (default docs/chaos_<tier>.json)")
+    ap.add_argument("--store", default=str(STORE_PATH), help="the stored validation-chosen constants")
+    ap.add_argument("--references-dir", default=str(DATA_DIR), help="where the stored test references are")
     a = ap.parse_args(argv)
     if a.replicas < 2:
         ap.error("--replicas must be at least 2 (a spread needs two perturbed runs)")
     out = Path(a.out or f"docs/chaos_{a.tier}.json")
-    parts = out.with_name(out.stem + "_parts")
-    parts.mkdir(parents=True, exist_ok=True)
-    policies = default_policies(a.tier)
+    policies = default_policies(a.tier, store=Path(a.store))
     t0 = time.time()
     for r in range(a.replicas + 1):
-        path = parts / f"replica_{r}.json"
-        if path.exists():
-            done = json.loads(path.read_text())
-            names = sorted(p.name for p in policies)
-            if (done.get("tier"), done.get("episodes"), done.get("kernel_hash"), sorted(done["returns"])) == \
-                    (a.tier, a.episodes, kernel_hash(), names):
-                print(f"replica {r}: done before ({path})", flush=True)
-                continue
-            print(f"replica {r}: {path} was made for another tier, episode count, kernel or policy set: "
-                  "computing it again", flush=True)
-        t = time.time()
-        rows = replica_returns(policies, a.tier, a.episodes, r)
-        tmp = path.with_suffix(".tmp")
-        tmp.write_text(json.dumps({"tier": a.tier, "replica": r, "episodes": a.episodes, "kernel_hash": kernel_hash(),
-                                   "relative_perturbation": RELATIVE_PERTURBATION if r else 0.0,
-                                   "wall_s": time.time() - t, "returns": rows}) + "\n")
-        tmp.replace(path)
-        print(f"replica {r}: wrote {path} ({time.time() - t:.0f} s)", flush=True)
-    reps = [json.loads((parts / f"replica_{r}.json").read_text()) for r in range(a.replicas + 1)]
-    names = list(reps[0]["returns"])
-    returns = {n: np.array([rep["returns"][n] for rep in reps]) for n in names}
+        run_replica(policies, a.tier, a.episodes, r, out)
     constant = policies[0]                     # default_policies: the validation constant first
-    r0, r1, scored_against = _score_bounds(a.tier, a.episodes, constant.preload_n, returns[constant.name][0])
-    summary = {"about": __doc__.split("\n\n")[0], "tier": a.tier, "episodes": a.episodes, "kernel_hash": kernel_hash(),
-               "replicas": a.replicas, "relative_perturbation": RELATIVE_PERTURBATION,
-               "command": "python -m agents.leaderboard.chaos " + " ".join(sys.argv[1:] if argv is None else argv),
-               "wall_s": sum(rep["wall_s"] for rep in reps), "scores_against": scored_against,
-               "policies": summarise(returns, r0, r1)}
-    out.write_text(json.dumps(summary, indent=1) + "\n")
+    summary = write_summary(out, a.tier, a.episodes, a.replicas, constant.name, constant.preload_n,
+                            "python -m agents.leaderboard.chaos " + " ".join(sys.argv[1:] if argv is None else argv),
+                            Path(a.references_dir))
     print(f"wrote {out} ({time.time() - t0:.0f} s this run)")
     for n, row in summary["policies"].items():
         print(f"{n:45s} episode sd median {row['episode_sd_median']:7.3f}  moved>1 {row['episodes_moving_more_than_1']:.0%}"

@@ -27,7 +27,7 @@ from bearing_gym.task import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
 
 from agents.leaderboard.compare_report import write_report
 from agents.evaluation.result import EvalResult
-from agents.policies.oracle import MapOracle
+from agents.policies.oracle import TABLE_PATH as ORACLE_TABLE, MapOracle
 from agents.policies.scripted import FeedbackRule, Policy, SpeedScheduledPreload
 from agents.protocol import HINDSIGHT_GRID_STEP_N, preload_grid
 from agents.references.store import STORE_PATH, ValidationChoice, load_choice, rebuild_command
@@ -37,12 +37,13 @@ from agents.evaluation.episodes import TEST_SEED, constant_sweep, hindsight_cons
 from agents.evaluation.trained import load_trained, shipped_dirs
 
 
-def baselines(table: StabilityTable | None) -> list[Policy]:
-    """The scripted controllers besides the constant preloads (those come from the sweep)."""
+def baselines(table: StabilityTable | None, oracle_table: str | Path = ORACLE_TABLE) -> list[Policy]:
+    """The scripted controllers besides the constant preloads (those come from the sweep); the
+    oracle reads its table from ``oracle_table``."""
     pols: list[Policy] = [FeedbackRule()]
     if table is not None:
         pols += [SpeedScheduledPreload(table)]
-    pols.append(MapOracle())
+    pols.append(MapOracle(oracle_table))
     return pols
 
 
@@ -61,7 +62,8 @@ def evaluate(model_dir: str | Path | list[str | Path] | None, episodes: int = 20
              episode_steps: int = EPISODE_STEPS, out_dir: str | Path | None = None,
              table_path: str | Path | None = None, verbose: bool = True,
              progress_every_s: float = 30.0, tier: str = DEFAULT_TIER,
-             store_path: str | Path = STORE_PATH, grid_step_n: float = HINDSIGHT_GRID_STEP_N) -> list[EvalResult]:
+             store_path: str | Path = STORE_PATH, grid_step_n: float = HINDSIGHT_GRID_STEP_N,
+             oracle_table: str | Path = ORACLE_TABLE) -> list[EvalResult]:
     """Every policy (the trained ones in ``model_dir``, the scripted baselines, the constant
     preloads) on the same held-out scenarios; writes the report files to ``out_dir`` (default:
     the first model directory, else ``evaluation/``). With ``verbose``, progress lines (at most
@@ -70,7 +72,8 @@ def evaluate(model_dir: str | Path | list[str | Path] | None, episodes: int = 20
     The best constant preload is the one stored for ``tier`` in ``store_path`` (chosen on
     validation seeds by ``python -m agents.references``), never chosen on these episodes; the
     hindsight reference is the best constant per scenario of a ``grid_step_n`` grid over the
-    actuator's whole range (the stored constant's row is that sweep's run of it)."""
+    actuator's whole range (the stored constant's row is that sweep's run of it). The oracle
+    baseline reads the reward map's best preloads from ``oracle_table``."""
     try:
         table = StabilityTable.load(table_path) if table_path else StabilityTable.load()
     except FileNotFoundError as err:
@@ -83,7 +86,7 @@ def evaluate(model_dir: str | Path | list[str | Path] | None, episodes: int = 20
     else:
         model_dirs = list(model_dir)
     policies: list[Policy] = [load_trained(d) for d in model_dirs]
-    policies += baselines(table)
+    policies += baselines(table, oracle_table)
     choice = stored_choice(tier, store_path, verbose)
     grid = preload_grid(grid_step_n)
     if choice is not None and choice.preload_n not in grid:     # a store built on another grid
