@@ -11,7 +11,7 @@ Nothing in bearing_gym imports ``agents``, ``train`` or ``benchmarks``, which si
 ``agents`` (the ``rl`` extra) has layers of its own, lowest first:
 
     paths, protocol < policies < evaluation < references < leaderboard (and the
-    ``agents.evaluate`` alias) < training < the package's __init__
+    ``agents.evaluate`` alias) < training < regenerate < the package's __init__
 
 and may import any of bearing_gym, never ``train`` or ``benchmarks``.
 Every import statement counts, at module level or inside a function (a deferred import is
@@ -45,6 +45,7 @@ AGENT_LAYERS = (
     ("references", ("agents.references",)),
     ("leaderboard", ("agents.leaderboard", "agents.evaluate")),
     ("training", ("agents.training",)),
+    ("regenerate", ("agents.regenerate",)),
     ("api", ("agents",)),
 )
 #: a package of more modules than this is a flat room that wants subpackages

@@ -1,0 +1,3 @@
+from agents.regenerate.cli import main
+
+raise SystemExit(main())
