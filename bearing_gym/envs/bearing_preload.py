@@ -87,9 +87,12 @@ class BearingPreloadEnv(TaskParts, gym.Env):
     * vibration ``q (1 + min(a, 100 um) / 10 um)``: q = 1 if the interval is quasi-periodic
       (index > ``QPI_THRESHOLD`` = 0.1) else 0, a the RMS of the non-synchronous displacement
       (x, y, z after removing the shaft-synchronous series up to 3x);
-    * heat ``0.5 (P / 2000 N)^1.33 (n / 25,000 rpm)`` (Palmgren: friction heat ~ P^1.33 n);
-    * fatigue ``0.5 (P_eq / P_eq,max)^3 (n / 25,000 rpm)`` (ISO 281: life used ~ P_eq^3 n,
-      P_eq = max(F_r, 0.41 F_r + 0.87 P), P_eq,max at 2000 N and 500 N radial);
+    * heat ``h = 0.5 (P / 2000 N)^1.33 (n / 25,000 rpm)`` (Palmgren: friction heat ~ P^1.33 n);
+    * fatigue ``min(0.5 u / u_ref, 1 - h)``: u the fraction of the bearing's L10 life the
+      interval used per second, Lundberg-Palmgren from the model's contact loads at every
+      Newmark step (each ball's inner and outer load, its centrifugal force included:
+      ``bearing_gym.physics.rating``), u_ref the same at the costliest corner of the envelope
+      (2000 N, 25,000 rpm, 500 N radial, 30 um clearance; static equilibrium);
     * actuation ``0.1 |Delta P| / 1700 N``;
     * termination (integrator failure): the worst cost of an interval times (1 + intervals left),
       so a crash never pays.
@@ -99,7 +102,13 @@ class BearingPreloadEnv(TaskParts, gym.Env):
     ``info`` as ``reward_vibration``, ``reward_heat``, ``reward_fatigue``, ``reward_actuation``,
     ``reward_termination``; ``info`` also has ``qpi`` (the true index, without sensor errors),
     ``quasi_periodic`` (bool), ``nonsync_rms_um`` (um), ``preload_n`` and ``setpoint_n`` (N),
-    ``shaft_speed_rpm``, ``radial_load_n`` (N) and ``t`` (s into the episode).
+    ``shaft_speed_rpm``, ``radial_load_n`` (N) and ``t`` (s into the episode), and what a
+    spindle engineer checks of the interval: ``radial_stiffness_n_per_m`` and
+    ``axial_stiffness_n_per_m`` (N/m, the bearing's at the mean displacement),
+    ``max_inner_contact_load_n`` and ``max_outer_contact_load_n`` (N), ``life_used_per_s``
+    (fraction of the L10 life per second), ``l10_life_h`` (h, the L10 life at the interval's
+    loads and speed) and ``friction_torque_n_m`` (N m, Palmgren's load term);
+    ``docs/environment.md`` defines each.
 
     ## Starting State
 
@@ -161,6 +170,18 @@ class BearingPreloadEnv(TaskParts, gym.Env):
 
     ## Version History
 
+    * v0 (benchmark v2: the fatigue term and the engineering ``info``): the fatigue term is the
+      fraction of the L10 life used per second by Lundberg-Palmgren from the contact loads the
+      model computes (inner and outer, every Newmark step, the balls' centrifugal force
+      included), relative to the costliest corner of the envelope (now with its largest
+      clearance), and capped so that heat + fatigue never exceed 1; it was ISO 281's
+      bearing-level ``(0.41 F_r + 0.87 P)^3 n``, which leaves the centrifugal force out and so
+      overstated what preload does to life (at 25,000 rpm the fatigue cost is now 0.34-0.54
+      whatever the preload, at 10,000 rpm about 0.001). On the reward map's 81 cells the best
+      preload moves in 2 (docs/environment.md). ``info`` gains the bearing's radial and axial
+      stiffness, the largest inner and outer contact loads, the life used, the L10 life and
+      the friction torque; ``StepMeasurement`` gains ``contact``, ``life_used_per_s`` and
+      ``friction_torque_n_m``; the integrator's scalar state accumulates the contact loads.
     * v0 (portable kernel): the same definition, now the same bits on every CPU: nothing that
       feeds the state, the observation or the reward calls libm, NumPy's SIMD transcendentals or
       BLAS/LAPACK (``bearing_gym.physics.portable_math``; docs/model.md). The last bits of every

@@ -15,9 +15,12 @@ from typing import Any
 
 import numpy as np
 
+from bearing_gym.physics.portable_math import TWO_PI
+from bearing_gym.physics.rating import friction_torque_n_m, life_used_per_revolution
 from bearing_gym.physics.status import ST_OK, status_text
 from bearing_gym.units import rad_s_to_rpm
 
+from .contact import C_INNER_Q3_MEAN, C_OUTER_Q10_3_MEAN
 from .core import PreloadBatch
 from .measurement import StepMeasurement
 from .parts import rebuild_dataclass, resolve_part
@@ -72,16 +75,26 @@ def check_actions(actions: Any, n: int, single: bool = False) -> np.ndarray:
 def measurement(batch: PreloadBatch, idx: np.ndarray, preload_before: np.ndarray, steps_left: np.ndarray,
                 terminated: np.ndarray) -> StepMeasurement:
     """The :class:`StepMeasurement` of ``batch``'s envs ``idx`` after their last kernel step (or
-    settle): what the observation model and the reward read."""
+    settle): what the observation model and the reward read. The life used per second is
+    Lundberg-Palmgren's 1 / L_10 of the interval's contact loads (the bearing's capacities,
+    ``batch.dynamic_capacities_n``) times the shaft's revolutions per second at the interval's
+    end; the friction torque Palmgren's M_1 at its preload and radial load
+    (:mod:`bearing_gym.physics.rating`)."""
     a = batch.actuator
     omega = batch.omega()[idx]
+    contact = batch.contact[idx].copy()
+    radial = batch.radial_load_n()[idx]
+    preload = batch.preload[idx].copy()
+    life = life_used_per_revolution(contact[:, C_INNER_Q3_MEAN], contact[:, C_OUTER_Q10_3_MEAN],
+                                    batch.dynamic_capacities_n) * (omega / TWO_PI)
     return StepMeasurement(
-        features=batch.feats[idx].copy(), preload_n=batch.preload[idx].copy(),
+        features=batch.feats[idx].copy(), preload_n=preload,
         preload_before_n=np.asarray(preload_before, dtype=float), setpoint_n=batch.setpoint[idx].copy(),
-        shaft_speed_rad_s=omega, radial_load_n=batch.radial_load_n()[idx],
+        shaft_speed_rad_s=omega, radial_load_n=radial,
         kinematic_cage_speed_rad_s=0.5 * omega * (1.0 - batch.gamma_cos_a0),
         t_s=batch.t_episode[idx].copy(), steps_left=np.asarray(steps_left),
-        terminated=np.asarray(terminated, dtype=bool),
+        terminated=np.asarray(terminated, dtype=bool), contact=contact, life_used_per_s=life,
+        friction_torque_n_m=friction_torque_n_m(batch.base.geometry, radial, preload),
         preload_range_n=(float(a.min_preload_n), float(a.max_preload_n)))
 
 
@@ -162,13 +175,21 @@ class PreloadTask:
         return obs, [self._info(int(b), m, i) for i, b in enumerate(idx)]
 
     def _info(self, b: int, m: StepMeasurement, i: int) -> dict[str, Any]:
-        """The operating point, the preload and the motion of env ``b`` (row ``i`` of ``m``)."""
+        """The operating point, the preload, the motion and the bearing's engineering quantities
+        of env ``b`` (row ``i`` of ``m``; docs/environment.md has the table)."""
         batch = self.batch
+        life = float(m.life_used_per_s[i])
         return {"preload_n": float(batch.preload[b]), "setpoint_n": float(batch.setpoint[b]),
                 "shaft_speed_rpm": float(rad_s_to_rpm(m.shaft_speed_rad_s[i])),
                 "radial_load_n": float(m.radial_load_n[i]), "qpi": float(m.qpi[i]),
                 "quasi_periodic": bool(m.quasi_periodic[i]), "nonsync_rms_um": float(m.nonsync_rms_m[i] * 1e6),
-                "t": float(batch.t_episode[b])}
+                "t": float(batch.t_episode[b]),
+                "radial_stiffness_n_per_m": float(m.radial_stiffness_n_per_m[i]),
+                "axial_stiffness_n_per_m": float(m.axial_stiffness_n_per_m[i]),
+                "max_inner_contact_load_n": float(m.max_inner_contact_load_n[i]),
+                "max_outer_contact_load_n": float(m.max_outer_contact_load_n[i]),
+                "life_used_per_s": life, "l10_life_h": 1.0 / (3600.0 * life) if life > 0.0 else float("inf"),
+                "friction_torque_n_m": float(m.friction_torque_n_m[i])}
 
     def step_outputs(self, idx: np.ndarray, preload_before: np.ndarray, steps_left: np.ndarray, rngs):
         """Observations, rewards, terminations and infos of envs ``idx`` after a kernel step."""

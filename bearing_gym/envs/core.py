@@ -19,12 +19,14 @@ import numpy as np
 from bearing_gym.analysis.signals import QPI_THRESHOLD
 from bearing_gym.task import ENV_DT_S, ENV_NEWMARK_TOL_M
 
+from .contact import N_CONTACT
 from .features import F_QPI, N_FEATURES
 from bearing_gym.params import BearingParams, RaceWaviness, Waviness, default_params
 from bearing_gym.physics import Simulator
 from bearing_gym.physics.ball import N_BALL_OUT
 from bearing_gym.physics.layout import I_CTY, I_CX, N_OP, N_PRM, O_DAMPING, O_OMEGA, O_PX, O_PY, O_PZ
 from bearing_gym.physics.portable_math import cos, pow, sincos
+from bearing_gym.physics.rating import dynamic_capacities_n
 from bearing_gym.physics.rotor import N_REC, N_SCAL
 
 from .actuator import PreloadActuator
@@ -162,16 +164,19 @@ class PreloadBatch:
         self.rows = np.zeros(B, dtype=np.int64)
         self.status = np.zeros(B, dtype=np.int64)
         self.feats = np.zeros((B, N_FEATURES))
+        self.contact = np.zeros((B, N_CONTACT))           # the interval's contact state (contact.C_*)
         self.scenarios: list[Scenario | None] = [None] * B
         self.rotor_damping = rotor_damping(self.base)
         self.start_failed = np.zeros(B, dtype=bool)
         g = self.base.geometry
         self.gamma_cos_a0 = g.diameter_ratio * cos(g.contact_angle_rad)
+        #: (Q_ci, Q_co): Lundberg-Palmgren dynamic capacities of a ball contact (N, physics.rating)
+        self.dynamic_capacities_n = dynamic_capacities_n(g)
         # the kernel's arguments, by name (views of the arrays above: the same memory)
         self.arrays = BatchArrays(self.prm, self.op, self.race_wav, self.n_race, self.ball_wav, self.n_ball,
                                   self.ball_phase, self.ball_size, self.X, self.V, self.A, self.scal, self.psi_b,
                                   self.ball_v, self.ball_out, self.env_state, self.sched, self.rec, self.rows,
-                                  self.status, self.feats)
+                                  self.status, self.feats, self.contact)
 
     @property
     def dt_s(self) -> float:
@@ -204,10 +209,11 @@ class PreloadBatch:
         self.prm[b, I_CX:I_CTY + 1] = self.rotor_damping
         self.status[b] = 0
         self.feats[b] = 0.0
+        self.contact[b] = 0.0
         self.start_failed[b] = False
 
     # -- settled start -------------------------------------------------------------------------
-    _STATE = ("X", "V", "A", "scal", "psi_b", "ball_v", "ball_out", "feats", "status")
+    _STATE = ("X", "V", "A", "scal", "psi_b", "ball_v", "ball_out", "feats", "status", "contact")
     STATE = _STATE             # what a settled start is (a start bank stores these per env)
 
     def settle_digest(self, b: int) -> str:
@@ -321,7 +327,7 @@ class PreloadBatch:
     #: every per-env array of the batch (first axis = env): what :meth:`copy_env` copies
     _PER_ENV = ("prm", "op", "race_wav", "n_race", "ball_wav", "n_ball", "ball_phase", "ball_size", "X", "V", "A",
                 "scal", "psi_b", "ball_v", "ball_out", "env_state", "sched", "rec", "rows", "status", "feats",
-                "start_failed")
+                "contact", "start_failed")
 
     def copy_env(self, src: int, dst) -> None:
         """Make env(s) ``dst`` exact copies of env ``src``: its scenario, operating point,

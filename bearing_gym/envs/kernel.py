@@ -4,7 +4,8 @@
 ``prange`` loop: every actuator update interval it sets the operating point (shaft speed ramp,
 radial-load step) from the scenario schedule, moves the preload by the actuator dynamics, and
 runs the Newmark integrator (:func:`bearing_gym.physics.rotor.integrate`); at the end it
-computes the window features (:func:`bearing_gym.envs.features.window_features`).
+computes the window features (:func:`bearing_gym.envs.features.window_features`) and the
+interval's contact loads and bearing stiffness (:func:`bearing_gym.envs.contact.interval_contact`).
 
 Schedule row (``Scenario.schedule_array``): the number of speed knots, then (t, omega) pairs
 (``MAX_EVENTS`` slots), then the number of load steps, then (t, F_x, F_y) triples.
@@ -20,6 +21,7 @@ from numba import njit, prange
 from bearing_gym.physics.layout import I_DT, O_OMEGA, O_PX, O_PY, O_PZ
 from bearing_gym.physics.rotor import integrate
 
+from .contact import interval_contact, reset_contact_accumulators
 from .features import window_features
 
 from .actuator import actuator_update
@@ -38,7 +40,7 @@ class BatchArrays(NamedTuple):
     kernel sets them every actuator update - and the damping's factors, 1 but in the settle's aid), the waviness and ball sizes (``n_race``/``n_ball``
     rows of each in use), the integrator state (X, V, A, scal, psi_b, ball_v, ball_out), the
     env state (``E_*``), the scenario's schedule, and the outputs of the last interval (record
-    rows, their count, the status, the window features)."""
+    rows, their count, the status, the window features, the contact state ``C_*``)."""
 
     prm: np.ndarray
     op: np.ndarray
@@ -61,6 +63,7 @@ class BatchArrays(NamedTuple):
     rows: np.ndarray
     status: np.ndarray
     feats: np.ndarray
+    contact: np.ndarray
 
 
 @njit(cache=True, inline="always")
@@ -87,10 +90,11 @@ def operating_point(row, t):
 
 @njit(cache=True)
 def step_one(prm, op, race_wav, ball_wav, ball_phase, ball_size, X, V, A, scal, psi_b, ball_v,
-             ball_out, state, sched, act, n_sub, steps_per_sub, rec, feats):
+             ball_out, state, sched, act, n_sub, steps_per_sub, rec, feats, contact):
     """Advance one environment by ``n_sub`` actuator intervals of ``steps_per_sub`` Newmark
     steps: each sets the operating point ``op`` from the schedule and moves its preload by the
     actuator. ``state`` = [setpoint, t_episode] (updated). Returns (status, rows)."""
+    reset_contact_accumulators(scal)
     rows_total = 0
     st = 0
     h = steps_per_sub * prm[I_DT]
@@ -107,6 +111,9 @@ def step_one(prm, op, race_wav, ball_wav, ball_phase, ball_size, X, V, A, scal, 
         if st != 0:
             break
     window_features(rec, rows_total, feats)
+    # a failed interval's contact state means nothing (zeros), as its features
+    interval_contact(prm, op, race_wav, ball_wav, ball_phase, ball_size, scal, psi_b, ball_v, ball_out, rec,
+                     rows_total if st == 0 else 0, contact)
     return st, rows_total
 
 
@@ -122,7 +129,7 @@ def _compile_step_batch(name: str, parallel: bool):
                 st, rows = step_one(a.prm[b], a.op[b], a.race_wav[b, :a.n_race[b]], a.ball_wav[b, :a.n_ball[b]],
                                     a.ball_phase[b, :, :a.n_ball[b]], a.ball_size[b], a.X[b], a.V[b], a.A[b],
                                     a.scal[b], a.psi_b[b], a.ball_v[b], a.ball_out[b], a.env_state[b],
-                                    a.sched[b], act, n_sub, steps_per_sub, a.rec[b], a.feats[b])
+                                    a.sched[b], act, n_sub, steps_per_sub, a.rec[b], a.feats[b], a.contact[b])
                 status_out[b] = st
                 rows_out[b] = rows
     kernel.__name__ = kernel.__qualname__ = name
@@ -130,7 +137,7 @@ def _compile_step_batch(name: str, parallel: bool):
 
 
 #: Advance each env ``b`` with ``active[b]`` of the :class:`BatchArrays` by one control interval
-#: (prange over envs); writes their op, env_state, rec, rows, status (0 = ok) and feats.
+#: (prange over envs); writes their op, env_state, rec, rows, status (0 = ok), feats and contact.
 step_batch = _compile_step_batch("step_batch", parallel=True)
 #: The same without threads (prange is range without parallel=True): for a batch of one, where a
 #: thread pool only costs time when other processes share the cores.

@@ -19,28 +19,63 @@ term                  cost per control interval (dimensionless; the reward is mi
                       a = RMS of the non-synchronous displacement of x, y, z in um (what is
                       left after removing the once-per-revolution response and its harmonics,
                       :mod:`.features`); a_ref = 10 um, a_cap = 100 um.
-``heat``              s_h (P / P_max)^1.33 (n / n_max). Palmgren: the load-dependent friction
+``heat``              h = s_h (P / P_max)^1.33 (n / n_max). Palmgren: the load-dependent friction
                       torque is M_1 = f_1 P d_m with f_1 = z (P_0 / C_0)^0.33 for ball bearings,
                       so M_1 ~ P^1.33, and its heat M_1 omega ~ P^1.33 n.
-``fatigue``           s_f (P_eq / P_eq,max)^3 (n / n_max). ISO 281: L10 = (C / P_eq)^3
-                      revolutions, so the fraction of the rating life used per second is
-                      proportional to P_eq^3 n; P_eq = max(F_r, 0.41 F_r + 0.87 F_a) (X, Y of a
-                      25 deg angular-contact bearing, e = 0.68), F_a = P.
+``fatigue``           min(s_f u / u_ref, s_h + s_f - h): the fraction u of the bearing's L10
+                      rating life the interval used per second (Lundberg-Palmgren, below),
+                      relative to u_ref, the same at the costliest corner of the envelope.
 ``actuation``         w_a |Delta P| / (P_max - P_min): the preload moved in the interval.
 ``termination``       on termination only (the other terms are then 0): the worst cost of
                       one interval times (1 + the intervals left in the episode).
 ====================  ===================================================================
 
-P is the actual axial preload, n the shaft speed, F_r the radial load. P_max, P_min, n_max and
-F_r,max are the envelope of the task (the actuator's range, 25,000 rpm, 500 N);
-P_eq,max = max(F_r,max, 0.41 F_r,max + 0.87 P_max).
+P is the actual axial preload, n the shaft speed (at the interval's end), F_r the radial load.
+P_max, P_min, n_max, F_r,max and c_max are the envelope of the task (the actuator's range,
+25,000 rpm, 500 N, the tiers' largest clearance 30 um).
+
+Fatigue: Lundberg-Palmgren, the basic form ISO/TS 16281 builds its reference rating life on
+(Harris & Kotzalas, *Rolling Bearing Analysis* 5th ed., vol. 2, ch. 8; equations and source in
+:mod:`bearing_gym.physics.rating`). The loads are the model's own contact loads Q_ij (inner) and
+Q_oj (outer race) of every ball j at every Newmark step k of the interval (``ball_out`` of
+:func:`bearing_gym.physics.rotor.integrate`: each ball in quasi-static equilibrium with its
+centrifugal force, so the outer contacts carry it; the unbalance, the vibration and the radial
+load are in them too), accumulated by the integrator (:mod:`.contact`). Over the interval's K
+steps and the Z balls (Palmgren-Miner: the mean of Q^w over time and balls):
+
+    Q_ei^3      = 1/(K Z) sum_k sum_j Q_ij^3           (rotating inner race, w = 3)
+    Q_eo^(10/3) = 1/(K Z) sum_k sum_j Q_oj^(10/3)      (stationary outer race, w = 10/3)
+    L_i = (Q_ci / Q_ei)^3,  L_o = (Q_co / Q_eo)^3       (10^6 revolutions)
+    L_10 = (L_i^(-10/9) + L_o^(-10/9))^(-9/10)
+    u = (n / 60 s) / (L_10 10^6)                        (n in rpm: life used per second, 1/s)
+
+with the races' basic dynamic capacities (N, D in mm; upper signs inner, lower outer)
+Q_c = 98.1 (2f / (2f - 1))^0.41 (1 -+ gamma)^1.39 / (1 +- gamma)^(1/3) (gamma / cos alpha)^0.3
+D^1.8 Z^(-1/3), f = groove radius / D, gamma = D cos alpha / d_m: Q_ci = 9646 N and
+Q_co = 19345 N for the default bearing. u_ref is u at the static (quasi-static) equilibrium
+(:func:`bearing_gym.physics.static_equilibrium`) of the default bearing at the costliest corner
+of the envelope: P_max = 2000 N, n_max = 25,000 rpm, F_r,max = 500 N and the largest clearance
+c_max = 30 um (L_10 = 96.5 h there; the clearance matters: with 4 um it is 124 h). At high speed
+the outer race's centrifugal load dominates: at 25,000 rpm a ball presses on it with 2.6 kN
+before any preload, so the preload moves the life little and the speed much (u ~ n^7 where the
+centrifugal force dominates: the loads ~ n^2, cubed, times the revolutions); under radial load
+with a large clearance a light preload can even cost more life than a firmer one (fewer balls
+carry the load).
 
 Why these weights (nothing here is fitted to a policy):
 
 * heat and fatigue share the secondary cost equally (s_h = s_f = 0.5) and are scaled so that
   together they cost exactly 1 at the costliest corner of the envelope (P_max, n_max,
-  F_r,max). Both follow the physical law of their term, so ratios between operating points are
-  physical (twice the preload, 2.5 times the heat; twice the load, eight times the life used).
+  F_r,max, c_max, static loads). Both follow the physical law of their term, so ratios between
+  operating points are physical (twice the preload, 2.5 times the heat; the fatigue term is
+  today's fraction of the L10 life used per second). The unbalance and the vibration load the
+  contacts beyond the static corner, so the fatigue term is capped where heat + fatigue would
+  exceed s_h + s_f = 1: that keeps the next point exact and bounds the termination penalty. It
+  binds only in quasi-periodic motion (where the vibration term dominates anyway) and in
+  period-1 motion beyond the reward map's unbalances: at 20,000-25,000 rpm with the ``field``
+  tier's 30 um the synchronous orbit reaches outer loads of 7-11 kN and u of 2-10 u_ref, and
+  there every period-1 preload's heat + fatigue is 1 (at 20,000-25,000 rpm / 250 N / 17 um
+  with 10-20 um, u stayed below 0.9 u_ref).
 * vibration comes first: a quasi-periodic interval costs at least 1, as much as the most
   expensive preload anywhere in the envelope, so no saving of heat or life can pay for
   quasi-periodic motion. On top of that, every 10 um RMS of non-synchronous vibration costs as
@@ -59,22 +94,35 @@ Why these weights (nothing here is fitted to a policy):
 
 from __future__ import annotations
 
+import functools
 from dataclasses import dataclass, field
 from typing import Protocol, runtime_checkable
 
 import numpy as np
 
 from bearing_gym.physics.portable_math import pow_array
+from bearing_gym.physics.rating import static_life_used_per_s
 from bearing_gym.units import rpm_to_rad_s
 from bearing_gym.validation import check_real
 
 from .measurement import StepMeasurement
 from .parts import part_entry_point
 
-__all__ = ["Reward", "VibrationFirstReward", "REWARD_TERMS"]
+__all__ = ["Reward", "VibrationFirstReward", "REWARD_TERMS", "corner_life_used_per_s"]
 
 REWARD_TERMS = ("vibration", "heat", "fatigue", "actuation", "termination")
 HEAT_LOAD_EXPONENT = 1.33      # Palmgren: M_1 = f_1 P d_m, f_1 ~ (P_0 / C_0)^0.33
+
+
+@functools.lru_cache(maxsize=8)
+def corner_life_used_per_s(preload_n: float, speed_rpm: float, radial_load_n: float, clearance_m: float) -> float:
+    """u (1/s) at the static equilibrium of the default bearing at an operating point
+    (:func:`bearing_gym.physics.rating.static_life_used_per_s`): the reward's u_ref at the
+    envelope's costliest corner, computed once per process and envelope."""
+    from bearing_gym.params import default_params
+    return static_life_used_per_s(default_params(
+        shaft_speed_rpm=speed_rpm, axial_preload_n=preload_n, radial_load_x_n=radial_load_n,
+        clearance_inner_m=clearance_m, clearance_outer_m=clearance_m))
 
 
 @runtime_checkable
@@ -100,6 +148,7 @@ class VibrationFirstReward:
     max_preload_n: float = 2000.0
     max_speed_rpm: float = 25000.0
     max_radial_load_n: float = 500.0
+    max_clearance_m: float = 30e-6
     term_names: tuple[str, ...] = field(default=REWARD_TERMS, init=False)
     entry_point: str = field(default="", init=False)
 
@@ -112,24 +161,35 @@ class VibrationFirstReward:
         check_real("max_preload_n", self.max_preload_n, lo, 1e5, low_open=True)
         check_real("max_speed_rpm", self.max_speed_rpm, 0.0, 1e6, low_open=True)
         check_real("max_radial_load_n", self.max_radial_load_n, 0.0, 1e6)
+        check_real("max_clearance_m", self.max_clearance_m, 0.0, 1e-4)
         part_entry_point(self)
 
     # -- the terms -------------------------------------------------------------------------
-    @staticmethod
-    def equivalent_load_n(radial_load_n, axial_load_n):
-        """ISO 281 dynamic equivalent load of a 25 deg angular-contact ball bearing."""
-        return np.maximum(radial_load_n, 0.41 * radial_load_n + 0.87 * axial_load_n)
+    @property
+    def reference_life_used_per_s(self) -> float:
+        """u_ref (1/s): the life used per second at the envelope's costliest corner (module
+        docstring), from the default bearing's static equilibrium there (cached per process)."""
+        return corner_life_used_per_s(self.max_preload_n, self.max_speed_rpm, self.max_radial_load_n,
+                                      self.max_clearance_m)
 
-    def secondary_costs(self, preload_n, shaft_speed_rad_s, radial_load_n) -> tuple[np.ndarray, np.ndarray]:
-        """(heat, fatigue) costs (>= 0) at an operating point."""
-        speed = np.asarray(shaft_speed_rad_s) / rpm_to_rad_s(self.max_speed_rpm)
-        p_eq_max = self.equivalent_load_n(self.max_radial_load_n, self.max_preload_n)
-        # the portable pow and a product for the cube: NumPy's ** dispatches by CPU feature
+    def _speed_ratio(self, shaft_speed_rad_s) -> np.ndarray:
+        return np.asarray(shaft_speed_rad_s, dtype=np.float64) / rpm_to_rad_s(self.max_speed_rpm)
+
+    def heat_cost(self, preload_n, shaft_speed_rad_s) -> np.ndarray:
+        """s_h (P / P_max)^1.33 (n / n_max) (>= 0)."""
+        # the portable pow: NumPy's ** dispatches by CPU feature
         load = np.asarray(preload_n, dtype=np.float64) / self.max_preload_n
-        heat = self.heat_share * pow_array(np.atleast_1d(load), HEAT_LOAD_EXPONENT).reshape(load.shape) * speed
-        eq = np.asarray(self.equivalent_load_n(radial_load_n, preload_n), dtype=np.float64) / p_eq_max
-        fatigue = self.fatigue_share * (eq * eq * eq) * speed
-        return heat, fatigue
+        return (self.heat_share * pow_array(np.atleast_1d(load), HEAT_LOAD_EXPONENT).reshape(load.shape)
+                * self._speed_ratio(shaft_speed_rad_s))
+
+    def secondary_costs(self, preload_n, shaft_speed_rad_s, life_used_per_s) -> tuple[np.ndarray, np.ndarray]:
+        """(heat, fatigue) costs (>= 0) of an interval: the heat at its preload and speed, the
+        fatigue from the fraction of the L10 life it used per second (1/s), capped so that heat +
+        fatigue never exceed s_h + s_f (times n / n_max beyond the envelope's speed)."""
+        heat = self.heat_cost(preload_n, shaft_speed_rad_s)
+        fatigue = self.fatigue_share * np.asarray(life_used_per_s, dtype=np.float64) / self.reference_life_used_per_s
+        room = (self.heat_share + self.fatigue_share) * np.maximum(self._speed_ratio(shaft_speed_rad_s), 1.0) - heat
+        return heat, np.minimum(fatigue, np.maximum(room, 0.0))
 
     def vibration_cost(self, quasi_periodic, nonsync_rms_m) -> np.ndarray:
         amp_um = np.minimum(np.asarray(nonsync_rms_m) * 1e6, self.amplitude_cap_um)
@@ -137,15 +197,17 @@ class VibrationFirstReward:
 
     def worst_step_cost(self, shaft_speed_rad_s, radial_load_n) -> np.ndarray:
         """An upper bound of one interval's cost at (and anywhere inside the envelope beyond)
-        the given operating point: the termination penalty per interval left."""
+        the given operating point: the termination penalty per interval left. Heat + fatigue
+        never exceed max(heat at P_max, (s_h + s_f) max(1, n / n_max)), whatever the radial load
+        (kept in the signature: a reward's bound may depend on it)."""
         vib = 1.0 + self.amplitude_cap_um / self.amplitude_scale_um
         speed = np.maximum(np.asarray(shaft_speed_rad_s, dtype=float), rpm_to_rad_s(self.max_speed_rpm))
-        fr = np.maximum(np.asarray(radial_load_n, dtype=float), self.max_radial_load_n)
-        heat, fatigue = self.secondary_costs(self.max_preload_n, speed, fr)
-        return vib + heat + fatigue + self.actuation_weight
+        heat = self.heat_cost(self.max_preload_n, speed)
+        secondary = np.maximum(heat, (self.heat_share + self.fatigue_share) * self._speed_ratio(speed))
+        return vib + secondary + self.actuation_weight
 
     def __call__(self, m: StepMeasurement) -> tuple[np.ndarray, dict[str, np.ndarray]]:
-        heat, fatigue = self.secondary_costs(m.preload_n, m.shaft_speed_rad_s, m.radial_load_n)
+        heat, fatigue = self.secondary_costs(m.preload_n, m.shaft_speed_rad_s, m.life_used_per_s)
         span = self.max_preload_n - self.min_preload_n
         terms = {
             "vibration": -self.vibration_cost(m.quasi_periodic, m.nonsync_rms_m),

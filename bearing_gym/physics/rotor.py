@@ -38,12 +38,13 @@ import math
 import numpy as np
 from numba import njit
 
-from .ball import B_QI, B_VR_PREV, B_VR_PREV2, B_VZ_PREV, B_VZ_PREV2, B_WB
+from .ball import B_QI, B_QO, B_VR_PREV, B_VR_PREV2, B_VZ_PREV, B_VZ_PREV2, B_WB
 from .bearing import N_GEO, ball_geometry, bearing_force_on, cage_speed
 from .layout import (I_CTX, I_CTY, I_CX, I_CY, I_CZ, I_DIVLIM, I_DT, I_ECC, I_IR, I_IZ, I_MASS,
                      I_NB, I_NBETA, I_NGAMMA, I_NM_MAXIT, I_NM_TOL, I_RP, O_DAMPING, O_OMEGA,
                      O_PX, O_PY, O_PZ)
 from .portable_math import pow, sincos
+from .rating import cube_root_near
 from .status import ST_DIVERGED, ST_NEWMARK_NOT_CONVERGED, ST_OK  # noqa: F401 - ST_OK re-exported
 
 # status codes of integrate(): .status (ST_OK, ST_NEWMARK_NOT_CONVERGED, ST_DIVERGED; the ball
@@ -58,7 +59,14 @@ S_A_PREV = 4       # 4..8: acceleration of the previous step (predictor extrapol
 S_N_EVAL = 9       # bearing-force evaluations so far (diagnostics)
 S_A_PREV2 = 10     # 10..14: acceleration two steps back
 S_ETA = 15         # eta = theta / (1 - theta) of the last measured contraction (0: not yet measured)
-N_SCAL = 16
+# contact-load accumulators over accepted steps (Lundberg-Palmgren life, :mod:`.rating`); they
+# only add up (the env's kernel zeroes them at the start of each control interval)
+S_SUM_QI3 = 16     # sum over steps of sum_j Q_ij^3 (N^3), inner contacts
+S_SUM_QO10_3 = 17  # sum over steps of sum_j Q_oj^(10/3) (N^(10/3)), outer contacts
+S_LOAD_STEPS = 18  # steps accumulated
+S_MAX_QI = 19      # largest inner contact load (N)
+S_MAX_QO = 20      # largest outer contact load (N)
+N_SCAL = 21
 
 ETA_GROWTH = 0.8   # eta_0 = max(eta_old, EPS)^0.8 on a step's first pass (Hairer & Wanner IV.8)
 THETA_MAX = 0.99   # contraction beyond which eta is capped (the iteration is failing)
@@ -160,6 +168,7 @@ def integrate(prm, op, race_wav, ball_wav, ball_phase, ball_size, X, V, A, scal,
     vstar = np.zeros(5)
     base = np.zeros(5)
     geo = np.zeros((n, N_GEO))
+    qo_cbrt = np.zeros(n)          # each outer load's cube root at the last step (Q^(10/3) = Q^3 Q^(1/3))
     status = ST_OK
     rows = 0
     done = 0
@@ -236,6 +245,7 @@ def integrate(prm, op, race_wav, ball_wav, ball_phase, ball_size, X, V, A, scal,
             break
         scal[S_CAGE_SPEED] = cage_speed(ball_out, n, scal[S_CAGE_SPEED])
         done += 1
+        accumulate_contact_loads(ball_out, n, scal, qo_cbrt)
         if done % record_every == 0 and rows < rec.shape[0]:
             rec[rows, R_T] = scal[S_T]
             n_inner = 0
@@ -252,3 +262,30 @@ def integrate(prm, op, race_wav, ball_wav, ball_phase, ball_size, X, V, A, scal,
             rec[rows, R_N_INNER] = n_inner
             rows += 1
     return status, done, rows
+
+
+@njit(cache=True, inline="always")
+def accumulate_contact_loads(ball_out, n, scal, qo_cbrt):
+    """Add the accepted step's contact loads (``ball_out``, the step's last force evaluation) to
+    the S_SUM_QI3 ... S_MAX_QO accumulators. Q_o^(10/3) = Q_o^3 Q_o^(1/3), the cube root by
+    :func:`.rating.cube_root_near` from the same ball's root at the last step (``qo_cbrt``)."""
+    s3 = 0.0
+    s10 = 0.0
+    qi_max = scal[S_MAX_QI]
+    qo_max = scal[S_MAX_QO]
+    for j in range(n):
+        qi = ball_out[j, B_QI]
+        qo = ball_out[j, B_QO]
+        s3 += qi * qi * qi
+        if qo > 0.0:
+            qo_cbrt[j] = cube_root_near(qo, qo_cbrt[j])
+            s10 += qo * qo * qo * qo_cbrt[j]
+        if qi > qi_max:
+            qi_max = qi
+        if qo > qo_max:
+            qo_max = qo
+    scal[S_SUM_QI3] += s3
+    scal[S_SUM_QO10_3] += s10
+    scal[S_LOAD_STEPS] += 1.0
+    scal[S_MAX_QI] = qi_max
+    scal[S_MAX_QO] = qo_max

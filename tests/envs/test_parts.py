@@ -13,6 +13,7 @@ from bearing_gym.analysis.signals import QPI_THRESHOLD
 from bearing_gym.envs import (EPISODE_STEPS, FEATURE_NAMES, BearingPreloadEnv, FixedScenario, ObservationModel,
                               PreloadActuator, Scenario, ScenarioDistribution, StepMeasurement,
                               VibrationFirstReward)
+from bearing_gym.envs.contact import N_CONTACT
 from bearing_gym.envs.features import F_MEAN_X, F_NS_RMS, F_QPI, F_RMS_X, N_FEATURES
 from bearing_gym.envs.kernel import operating_point
 from bearing_gym.envs.tiers import TIERS, tier_is_deterministic
@@ -21,7 +22,7 @@ RPM = math.pi / 30.0
 
 
 def meas(qpi=0.01, ns_um=0.1, preload=1000.0, before=None, rpm=20000.0, radial=0.0,
-         terminated=False, steps_left=10, rms_um=(5.0, 5.0, 1.0)):
+         terminated=False, steps_left=10, rms_um=(5.0, 5.0, 1.0), life_used_per_s=1e-7):
     """A one-env StepMeasurement with the given features (everything else plausible)."""
     f = np.zeros((1, N_FEATURES))
     f[0, F_QPI] = qpi
@@ -32,31 +33,37 @@ def meas(qpi=0.01, ns_um=0.1, preload=1000.0, before=None, rpm=20000.0, radial=0
     return StepMeasurement(features=f, preload_n=a(preload), preload_before_n=a(preload if before is None else before),
                            setpoint_n=a(preload), shaft_speed_rad_s=a(rpm * RPM), radial_load_n=a(radial),
                            kinematic_cage_speed_rad_s=a(0.44 * rpm * RPM), t_s=a(0.1),
-                           steps_left=np.array([steps_left]), terminated=np.array([terminated]))
+                           steps_left=np.array([steps_left]), terminated=np.array([terminated]),
+                           contact=np.zeros((1, N_CONTACT)), life_used_per_s=a(life_used_per_s),
+                           friction_torque_n_m=a(0.05))
 
 
 # --- reward -----------------------------------------------------------------------------------
 def test_reward_terms_follow_their_physical_laws():
     r = VibrationFirstReward()
+    u_ref = r.reference_life_used_per_s
     # heat ~ P^1.33 n (Palmgren, f_1 ~ (P_0/C_0)^0.33): doubling the speed doubles it, doubling
     # the preload multiplies it by 2^1.33 = 2.51
-    h1, f1 = r.secondary_costs(800.0, 12000 * RPM, 0.0)
-    h2, f2 = r.secondary_costs(1600.0, 12000 * RPM, 0.0)
+    h1, f1 = r.secondary_costs(800.0, 12000 * RPM, 0.1 * u_ref)
+    h2, f2 = r.secondary_costs(1600.0, 12000 * RPM, 0.3 * u_ref)
     h3, _ = r.secondary_costs(800.0, 24000 * RPM, 0.0)
     assert h2 == pytest.approx(2 ** 1.33 * h1, rel=1e-12) and h3 == pytest.approx(2 * h1, rel=1e-12)
-    # fatigue ~ P_eq^3 n (ISO 281), P_eq = 0.87 F_a without radial load: x8 for twice the load
-    assert f2 == pytest.approx(8 * f1, rel=1e-12)
+    # fatigue is the fraction of the L10 life used per second, relative to the costliest corner's
+    assert f1 == pytest.approx(0.1 * r.fatigue_share, rel=1e-12) and f2 == pytest.approx(3 * f1, rel=1e-12)
     # the costliest corner of the envelope costs exactly 1 in heat + fatigue
-    hc, fc = r.secondary_costs(2000.0, 25000 * RPM, 500.0)
+    hc, fc = r.secondary_costs(2000.0, 25000 * RPM, u_ref)
     assert hc + fc == pytest.approx(1.0, rel=1e-12)
-    # P_eq = max(F_r, 0.41 F_r + 0.87 F_a): a purely radial load counts in full
-    assert r.equivalent_load_n(1000.0, 0.0) == 1000.0
-    assert r.equivalent_load_n(100.0, 1000.0) == pytest.approx(41.0 + 870.0)
+    # beyond it (unbalance, vibration) the fatigue is capped: heat + fatigue never exceed 1 in
+    # the envelope, and the cap leaves the fatigue alone where heat leaves room for it
+    hc, fc = r.secondary_costs(2000.0, 25000 * RPM, 3.0 * u_ref)
+    assert hc + fc == pytest.approx(1.0, rel=1e-12)
+    hl, fl = r.secondary_costs(300.0, 25000 * RPM, 1.2 * u_ref)
+    assert fl == pytest.approx(1.2 * r.fatigue_share, rel=1e-12) and hl + fl < 1.0
 
 
 def test_quasi_periodic_costs_more_than_any_periodic_preload_anywhere_in_the_envelope():
     r = VibrationFirstReward()
-    worst_periodic = -min(r(meas(qpi=0.0, preload=2000.0, rpm=25000.0, radial=500.0))[0])
+    worst_periodic = -min(r(meas(qpi=0.0, preload=2000.0, rpm=25000.0, radial=500.0, life_used_per_s=1.0))[0])
     best_qp = -max(r(meas(qpi=QPI_THRESHOLD * 1.01, ns_um=0.0, preload=300.0, rpm=10000.0))[0])
     assert best_qp > worst_periodic
     # amplitude ranks quasi-periodic states: 10 um more costs 1 more
@@ -71,8 +78,10 @@ def test_termination_costs_at_least_the_worst_continuation():
     r = VibrationFirstReward()
     for steps_left in (0, 1, 75, EPISODE_STEPS):
         term = r(meas(terminated=True, steps_left=steps_left))[0][0]
-        worst_step = min(r(meas(qpi=1.0, ns_um=1e4, preload=2000.0, before=300.0, rpm=25000.0, radial=500.0))[0][0],
-                         r(meas(qpi=1.0, ns_um=1e4, preload=300.0, before=2000.0, rpm=25000.0, radial=500.0))[0][0])
+        worst_step = min(r(meas(qpi=1.0, ns_um=1e4, preload=2000.0, before=300.0, rpm=25000.0, radial=500.0,
+                                life_used_per_s=1.0))[0][0],
+                         r(meas(qpi=1.0, ns_um=1e4, preload=300.0, before=2000.0, rpm=25000.0, radial=500.0,
+                                life_used_per_s=1.0))[0][0])
         assert term <= worst_step * (steps_left + 1) * (1 - 1e-12)
 
 

@@ -42,8 +42,13 @@ def test_first_interval_is_settled_at_period_1_points():
     # the acceptance test of the settled start: the first interval's index within 2x of the 15th's
     # (the residue of the start no larger than what steady motion shows)
     assert np.all(qpi[0] <= 2.0 * qpi[14]), qpi[0] / qpi[14]
-    # the reward of the first interval is already the steady one (hold the preload: same terms)
-    np.testing.assert_allclose(rew[0], rew[14], rtol=1e-6)
+    # the reward of the first interval is already the steady one (hold the preload: same terms).
+    # The fatigue term follows the contact loads, which waviness modulates from interval to
+    # interval (a few 1e-6 of the reward at the waviness point): the first interval's reward
+    # lies within the range of the steady intervals' (5-14), to 1e-6
+    steady = rew[5:15]
+    tol = 1e-6 * np.abs(rew[14])
+    assert np.all(rew[0] >= steady.min(axis=0) - tol) and np.all(rew[0] <= steady.max(axis=0) + tol), (rew[0], steady)
 
 
 def test_a_cold_start_would_not_be_settled():
