@@ -267,7 +267,13 @@ class Damping:
 @dataclass(frozen=True)
 class Integrator:
     """Newmark-beta time integration with equilibrium iterations at every step, and the
-    per-ball Newton-Raphson solver (eq 31)."""
+    per-ball Newton-Raphson solver (eq 31).
+
+    ``newmark_tol_m`` bounds the estimated error (m; rotations at the groove radius) of the
+    rotor's equilibrium iteration, and of each ball's once its Newton iteration converges
+    quadratically; ``newton_tol_m`` bounds a ball's last Newton step where it does not yet (the
+    stopping rules are in :mod:`bearing_gym.physics.rotor` and
+    :func:`bearing_gym.physics.ball.solve_ball`)."""
 
     dt_s: float = 1.0e-5
     newmark_beta: float = 0.25

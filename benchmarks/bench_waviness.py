@@ -5,8 +5,9 @@
 
 Times ``env.step`` (one 20 ms control interval, one thread) at one operating point (20,000 rpm,
 1200 N, c = 4 um, no radial load), once without waviness and once with the tiers' kind of it
-(0.5 um radial waviness of order 18 on both races), interleaved, best of ``--repeats``; and a
-``stationary`` draw (seed 300000). The ratio with/without is the figure of issue 29 (target
+(0.5 um radial waviness of order 18 on both races), interleaved, best of ``--repeats``; a
+``stationary`` draw (seed 300000) and a ``transient`` draw (seed 0, the benchmark's tier: the
+figure of issue 42's gate, at most 0.5x f716269's). The ratio with/without is the figure of issue 29 (target
 <= 1.2). Uses only the public env API, so the same file times another checkout: with
 ``--baseline DIR`` it runs itself ``--rounds`` times for this checkout and for DIR alternately
 (each in a fresh process, DIR first on ``PYTHONPATH``), keeps each variant's best figures and
@@ -33,7 +34,11 @@ from bearing_gym.envs import BearingPreloadEnv  # noqa: E402
 POINT = {"shaft_speed_rpm": 20000.0, "radial_load_n": 0.0, "clearance_m": 4e-6, "initial_preload_n": 1200.0}
 
 
-def make(waviness_m: float | None) -> BearingPreloadEnv:
+def make(waviness_m: float | None, tier: str = "stationary") -> BearingPreloadEnv:
+    if tier == "transient":                                 # a transient draw (training seed 0)
+        env = BearingPreloadEnv(tier="transient")
+        env.reset(seed=0)
+        return env
     if waviness_m is None:                                  # a stationary draw
         env = BearingPreloadEnv(tier="stationary")
         env.reset(seed=300000)
@@ -94,7 +99,8 @@ def main() -> None:
             for k, v in res.items():
                 print(f"{k:48s} {v:>10.4g}")
         return
-    envs = {"no waviness": make(0.0), "0.5 um waviness": make(0.5e-6), "stationary draw": make(None)}
+    envs = {"no waviness": make(0.0), "0.5 um waviness": make(0.5e-6), "stationary draw": make(None),
+            "transient draw": make(None, tier="transient")}
     for env in envs.values():                               # compile and warm up
         seconds_per_step(env, 2)
     best = {k: float("inf") for k in envs}

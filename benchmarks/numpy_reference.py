@@ -16,8 +16,10 @@ to rounding error when started from the same state):
 * Ball equilibrium (eq 28) solved per ball by Newton-Raphson (eq 31) with the analytic Jacobian
   (App. C), warm-started from the previous ball displacement (v_r, v_z). The Newton step is
   taken in polar coordinates about the outer-groove centre, (l_o, alpha_o), so that the ball
-  moves along the groove arc. The iteration stops when the step (|dl_o|, l_o |dalpha_o|) is below
-  ``newton_tol_m`` (1 nm by default; that last step is taken and the contact state is moved to
+  moves along the groove arc. The iteration stops when the step s = max(|dl_o|, l_o |dalpha_o|)
+  is below ``newton_tol_m``, or, with every loaded deflection above QUADRATIC_REGIME_M and any
+  gap wider than 2 s, when s^2 / d_min (d_min the smaller loaded deflection) is below
+  ``newmark_tol_m`` (that last step is taken and the contact state is moved to
   the new point to first order with the derivatives of the last evaluation instead of
   evaluating the model again); steps are clipped to 0.1 L_o; a step that makes the residual
   (max-norm) grow is halved along the arc (up to 30 times in a row); a ball without outer
@@ -32,8 +34,8 @@ to rounding error when started from the same state):
   the default parameters all of them are zero.
 * Bearing force F = sum_j T_j^T Q_j (eqs 3-5, 32-33).
 * Newmark-beta step with fixed-point (equilibrium) iterations on the displacement, viscous
-  damping and the gyroscopic coupling of eq 35; the first guess of a_{n+1} and of every ball's
-  (v_r, v_z) are linear extrapolations of the last two steps; the cage angle, shaft angle and
+  damping and the gyroscopic coupling of eq 35; the first guess of a_{n+1} is extrapolated
+  quadratically from the last three steps, and so is every ball's (v_r, v_z); the cage angle, shaft angle and
   ball spin angles advance explicitly with the speeds of the previous step (eqs 7, 8, 15).
 
 Usage::
@@ -61,6 +63,7 @@ __all__ = ["NumpyModel", "BallState", "RotorState", "state_from_simulator", "sta
 # the race-control friction of a contact fades in over this deflection (package:
 # bearing_gym.physics.ball.FRICTION_ONSET_M; the test checks that the two agree)
 FRICTION_ONSET_M = 1.0e-7
+QUADRATIC_REGIME_M = 2.0 * FRICTION_ONSET_M   # ball.solve_ball's quadratic regime
 MAX_HALVINGS = 30         # consecutive step halvings allowed in the ball Newton iteration
 
 # status codes (same meaning and values as the package)
@@ -464,7 +467,12 @@ class NumpyModel:
                 dl = -(Jp[:, 1, 1] * g[:, 0] - Jp[:, 0, 1] * g[:, 1]) / det
                 da = -(-Jp[:, 1, 0] * g[:, 0] + Jp[:, 0, 0] * g[:, 1]) / det
             size = np.maximum(np.abs(dl), np.abs(l_o * da))
-            converged = newton & (size < self.nt_tol)
+            # the package's stopping rule (ball.solve_ball): the step below newton_tol_m, or in
+            # the quadratic regime the error estimate step^2 / d_min below newmark_tol_m
+            d_i, d_o = con["delta_i"], con["delta_o"]
+            d_min = np.where(d_i > 0.0, np.minimum(d_o, d_i), np.where(-d_i <= 2.0 * size, 0.0, d_o))
+            quadratic = (d_min > QUADRATIC_REGIME_M) & (size * size < self.nm_tol * d_min)
+            converged = newton & ((size < self.nt_tol) | quadratic)
             status[active[converged]] = OK
             if converged.any():
                 self._take_last_step(balls, j[converged], dl[converged], da[converged],
@@ -591,10 +599,10 @@ class NumpyModel:
         st.shaft_angle += self.omega * dt
         st.cage_angle += st.cage_speed * dt
         st.psi_b += st.balls.omega_b * dt
-        # ball Newton warm starts: linear extrapolation of each ball's last two solutions
+        # ball Newton warm starts: quadratic extrapolation of each ball's last three solutions
         v_now = st.balls.v.copy()
         v_prev2 = st.v_prev if st.v_prev2 is None else st.v_prev2
-        st.balls.v[:] = 3.0 * v_now - 3.0 * st.v_prev + v_prev2     # quadratic in the last three
+        st.balls.v[:] = 3.0 * v_now - 3.0 * st.v_prev + v_prev2
         st.v_prev2 = st.v_prev
         st.v_prev = v_now
         S, CG = self.system_matrix()

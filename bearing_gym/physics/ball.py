@@ -30,10 +30,10 @@ import math
 
 from numba import njit
 
-from .hertz import contact_semi_major_axis, hertz_constant, inner_rx, outer_rx
+from .hertz import contact_semi_major_axis, hertz_constant_poly
 from .kinematics import race_control_kinematics
-from .layout import (I_COSA0, I_DB, I_DP, I_EEFF, I_GAM, I_IB, I_LI0, I_LO0, I_MB, I_NT_MAXIT,
-                     I_NT_TOL, I_RYI, I_RYO, I_SINA0)
+from .layout import (I_COSA0, I_DB, I_DP, I_EEFF, I_GAM, I_IB, I_KI, I_KO, I_LI0, I_LO0, I_MB,
+                     I_NM_TOL, I_NT_MAXIT, I_NT_TOL, I_RYI, I_RYO, I_SINA0)
 from .portable_math import pow, sincos
 
 BALL_OK = 0
@@ -62,6 +62,13 @@ B_VZ_PREV2 = 17  # v_z two time steps back
 N_BALL_OUT = 18
 
 FRICTION_ONSET_M = 1.0e-7
+ARC_SERIES_RAD = 1.0e-2    # |d_alpha| below which _arc_point takes sine and cosine from their series
+_SIN3, _SIN5, _SIN7 = -1.0 / 6.0, 1.0 / 120.0, -1.0 / 5040.0
+_COS2, _COS4, _COS6, _COS8 = -0.5, 1.0 / 24.0, -1.0 / 720.0, 1.0 / 40320.0
+#: Smallest loaded deflection (m) at which the Newton iteration counts on its quadratic
+#: convergence to estimate its error (:func:`solve_ball`): twice the friction's onset, above
+#: which the contact factor is 1 and only the Hertz law bends the residual.
+QUADRATIC_REGIME_M = 2.0 * FRICTION_ONSET_M
 
 
 @njit(cache=True, inline="always")
@@ -77,18 +84,20 @@ def contact_factor(delta):
 
 @njit(cache=True, inline="always")
 def _dg(dai, dao, dqi, dqo, dmg, dfe, dlam_i, dlam_o, qi, qo, ci, si, co, so, lam_i, lam_o, mg,
-        db):
-    """Derivative of (g_r, g_z) (eq 28) along one ball coordinate (C.1-C.4)."""
+        inv_db):
+    """Derivative of (g_r, g_z) (eq 28) along one ball coordinate (C.1-C.4); ``inv_db`` = 1/D_b."""
     dci = -si * dai
     dsi = ci * dai
     dco = -so * dao
     dso = co * dao
+    mgd = mg * inv_db
+    dmgd = dmg * inv_db
     dgr = (dqi * ci + qi * dci - dqo * co - qo * dco
-           + (lam_i * si - lam_o * so) * dmg / db + mg / db * (lam_i * dsi - lam_o * dso)
-           + (dlam_i * si - dlam_o * so) * mg / db + dfe)
+           + (lam_i * si - lam_o * so) * dmgd + mgd * (lam_i * dsi - lam_o * dso)
+           + (dlam_i * si - dlam_o * so) * mgd + dfe)
     dgz = (dqi * si + qi * dsi - dqo * so - qo * dso
-           - (lam_i * ci - lam_o * co) * dmg / db - mg / db * (lam_i * dci - lam_o * dco)
-           - (dlam_i * ci - dlam_o * co) * mg / db)
+           - (lam_i * ci - lam_o * co) * dmgd - mgd * (lam_i * dci - lam_o * dco)
+           - (dlam_i * ci - dlam_o * co) * mgd)
     return dgr, dgz
 
 
@@ -105,13 +114,13 @@ def ball_residual(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm):
 
 
 @njit(cache=True, inline="always")
-def hertz_load(delta, k, dk, drx):
+def hertz_load(delta, k, dk_dalpha):
     """Hertz contact load Q = K delta^1.5 (eqs 24-25) of a deflection ``delta`` (0 without
-    contact), with dQ/d(alpha) = delta^1.5 dK/d(R_x) dR_x/d(alpha) and dQ/d(delta) = 1.5 K
-    delta^0.5 (App. C); delta^1.5 as delta sqrt(delta), with IEEE operations only."""
+    contact), with dQ/d(alpha) = delta^1.5 dK/d(alpha) and dQ/d(delta) = 1.5 K delta^0.5
+    (App. C); delta^1.5 as delta sqrt(delta), with IEEE operations only."""
     if delta > 0.0:
         sq = math.sqrt(delta)
-        return k * delta * sq, delta * sq * dk * drx, 1.5 * k * sq
+        return k * delta * sq, delta * sq * dk_dalpha, 1.5 * k * sq
     return 0.0, 0.0, 0.0
 
 
@@ -128,31 +137,32 @@ def ball_model(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm):
     """
     db = prm[I_DB]
     dp = prm[I_DP]
-    eeff = prm[I_EEFF]
     ai_ = prm[I_LI0] * prm[I_COSA0] + ur - vr
     bi_ = prm[I_LI0] * prm[I_SINA0] + uz - vz
     ao_ = prm[I_LO0] * prm[I_COSA0] + vr
     bo_ = prm[I_LO0] * prm[I_SINA0] + vz
     li = math.sqrt(ai_ * ai_ + bi_ * bi_)                     # eq 20
     lo = math.sqrt(ao_ * ao_ + bo_ * bo_)                     # eq 21
-    ci = ai_ / li
-    si = bi_ / li                                             # eq 18
-    co = ao_ / lo
-    so = bo_ / lo                                             # eq 19
+    inv_li = 1.0 / li              # reciprocals once: the divisions below become multiplications
+    inv_lo = 1.0 / lo
+    inv_db = 1.0 / db
+    ci = ai_ * inv_li
+    si = bi_ * inv_li                                         # eq 18
+    co = ao_ * inv_lo
+    so = bo_ * inv_lo                                         # eq 19
     di = li - dist_i                                          # eq 22
     do = lo - dist_o                                          # eq 23
-    # Hertz (eqs 24-27, App. A)
-    rxi, drxi = inner_rx(db, dp, ci, si)
-    rxo, drxo = outer_rx(db, dp, co, so)
-    ki, dki = hertz_constant(rxi, prm[I_RYI], eeff)
-    ko, dko = hertz_constant(rxo, prm[I_RYO], eeff)
+    # Hertz (eqs 24-27, App. A): K(cos alpha) of each race from its polynomial (hertz.py), and
+    # dK/d(alpha) = -sin(alpha) dK/d(cos alpha) (C.11-C.18)
+    ki, dki_dc = hertz_constant_poly(prm, I_KI, ci)
+    ko, dko_dc = hertz_constant_poly(prm, I_KO, co)
     # derivatives of the angles and distances w.r.t. (v_r, v_z) (C.5, C.6)
-    dai_r = si / li
-    dai_z = -ci / li
-    dao_r = -so / lo
-    dao_z = co / lo
-    qi, dqi_da, dqi_dl = hertz_load(di, ki, dki, drxi)
-    qo, dqo_da, dqo_dl = hertz_load(do, ko, dko, drxo)
+    dai_r = si * inv_li
+    dai_z = -ci * inv_li
+    dao_r = -so * inv_lo
+    dao_z = co * inv_lo
+    qi, dqi_da, dqi_dl = hertz_load(di, ki, -si * dki_dc)
+    qo, dqo_da, dqo_dl = hertz_load(do, ko, -so * dko_dc)
     dqi_r = dqi_da * dai_r - dqi_dl * ci                      # C.7
     dqi_z = dqi_da * dai_z - dqi_dl * si                      # C.9
     dqo_r = dqo_da * dao_r + dqo_dl * co                      # C.8
@@ -186,12 +196,13 @@ def ball_model(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm):
     dfe_z = mb * wm * rad * dwm_z                             # C.20
     dmg_r = dmg_i * dai_r + dmg_o * dao_r                     # C.21
     dmg_z = dmg_i * dai_z + dmg_o * dao_z
-    gr = qi * ci - qo * co + (lam_i * si - lam_o * so) * mg / db + fe      # eq 28
-    gz = qi * si - qo * so - (lam_i * ci - lam_o * co) * mg / db
+    mgd = mg * inv_db
+    gr = qi * ci - qo * co + (lam_i * si - lam_o * so) * mgd + fe          # eq 28
+    gz = qi * si - qo * so - (lam_i * ci - lam_o * co) * mgd
     jrr, jzr = _dg(dai_r, dao_r, dqi_r, dqo_r, dmg_r, dfe_r, dlam_i_r, dlam_o_r, qi, qo, ci, si,
-                   co, so, lam_i, lam_o, mg, db)
+                   co, so, lam_i, lam_o, mg, inv_db)
     jrz, jzz = _dg(dai_z, dao_z, dqi_z, dqo_z, dmg_z, dfe_z, dlam_i_z, dlam_o_z, qi, qo, ci, si,
-                   co, so, lam_i, lam_o, mg, db)
+                   co, so, lam_i, lam_o, mg, inv_db)
     return (gr, gz, jrr, jrz, jzr, jzz, qi, qo, ci, si, co, so, wm, wb, mg, di, do, ko, lam_i,
             dqi_r, dqi_z, dqo_r, dqo_z, dai_r, dai_z, dao_r, dao_z, dwm_r, dwm_z, dmg_r, dmg_z,
             dlam_i_r, dlam_i_z)
@@ -213,8 +224,15 @@ def prefers_outer_control(qi, qo, ci, si, co, so, prm):
 @njit(cache=True, inline="always")
 def _arc_point(l_o, co, so, d_alpha, prm):
     """Ball displacement v at distance ``l_o`` from the outer-groove centre, at the angle
-    alpha_o + d_alpha where (co, so) = (cos, sin) alpha_o (eq 19 inverted)."""
-    s, c = sincos(d_alpha)
+    alpha_o + d_alpha where (co, so) = (cos, sin) alpha_o (eq 19 inverted). A Newton step's
+    d_alpha is tiny: below ``ARC_SERIES_RAD`` its sine and cosine are their Taylor series to
+    d^7 and d^8, exact to rounding there (the first term left out is < 1e-18 of the sum)."""
+    if abs(d_alpha) < ARC_SERIES_RAD:
+        d2 = d_alpha * d_alpha
+        s = d_alpha * (1.0 + d2 * (_SIN3 + d2 * (_SIN5 + d2 * _SIN7)))
+        c = 1.0 + d2 * (_COS2 + d2 * (_COS4 + d2 * (_COS6 + d2 * _COS8)))
+    else:
+        s, c = sincos(d_alpha)
     vr = l_o * (co * c - so * s) - prm[I_LO0] * prm[I_COSA0]
     vz = l_o * (so * c + co * s) - prm[I_LO0] * prm[I_SINA0]
     return vr, vz
@@ -227,8 +245,19 @@ def solve_ball(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm, out, j
     Writes the converged contact state into ``out[j, :]`` (columns ``B_*``) and returns
     (v_r, v_z, status). The step is limited to a tenth of the outer-groove free distance so a
     poor start cannot throw the ball out of the groove.
+
+    Stopping rule: the iteration stops when its next step |dv| is below ``newton_tol_m``, or,
+    once the loaded contacts' deflections exceed ``QUADRATIC_REGIME_M`` (and an open contact's
+    gap is more than twice the step, so the step cannot close it), when the error left after
+    that step, estimated as |dv|^2 / d_min with d_min the smaller loaded deflection, is below
+    the rotor's ``newmark_tol_m`` (a ball need not be solved more finely than the rotor's
+    equilibrium iteration it feeds). It takes that last step (to first order, without another
+    evaluation). Newton's error after a step is (|g''| / 2 |g'|) |dv|^2, and for the Hertz load
+    Q = K delta^1.5 (eq 24) Q'' / (2 Q') = 1 / (4 delta), so |dv|^2 / d_min bounds it with a
+    margin of 4 (the friction's contact factor and the kinematics vary on longer scales there).
     """
     tol = prm[I_NT_TOL]
+    error_tol = prm[I_NM_TOL]
     maxit = int(prm[I_NT_MAXIT])
     max_step = 0.1 * (prm[I_LO0] + 1e-9)
     status = BALL_NOT_CONVERGED
@@ -280,13 +309,18 @@ def solve_ball(vr, vz, ur, uz, dist_i, dist_o, omega, inner_control, prm, out, j
         if not (det != 0.0 and math.isfinite(det)):
             status = BALL_SINGULAR
             break
-        dl = -(p22 * gr - p12 * gz) / det
-        da = -(-p21 * gr + p11 * gz) / det
+        inv_det = 1.0 / det
+        dl = -(p22 * gr - p12 * gz) * inv_det
+        da = -(-p21 * gr + p11 * gz) * inv_det
         step = max(abs(dl), abs(lo * da))
-        if step < tol:
-            # converged: in the quadratic regime the error after this last step is of order
-            # step^2 / delta, so take it (to first order) and move the contact state to the new
-            # point instead of evaluating the model once more
+        d_min = do                  # the smaller loaded deflection; 0 if a gap may close
+        if di > 0.0:
+            d_min = min(d_min, di)
+        elif -di <= 2.0 * step:
+            d_min = 0.0
+        if step < tol or (d_min > QUADRATIC_REGIME_M and step * step < error_tol * d_min):
+            # converged: take this last step (to first order) and move the contact state to
+            # the new point instead of evaluating the model once more
             dvr = dl * co - lo * da * so
             dvz = dl * so + lo * da * co
             vr += dvr

@@ -12,7 +12,7 @@ from .ball import (B_CI, B_CO, B_CTRL, B_LAMI, B_MG, B_QI, B_QO, B_SI, B_SO, B_W
 from .layout import (CONTROL_AUTO, CONTROL_INNER, I_CONTROL, I_DB, I_NB, I_PHI0, I_RI,
                      I_RP, I_ZP)
 from .portable_math import PI, sincos
-from .waviness import ball_waviness, race_waviness
+from .waviness import ball_waviness, race_waviness_all_balls
 
 
 # columns of the per-ball geometry of one time step (:func:`ball_geometry`)
@@ -42,19 +42,20 @@ def ball_geometry(cage_angle, shaft_angle, psi_b, prm, race_wav, ball_wav, ball_
     are fixed while the Newmark iterations of a step evaluate the force again and again.
     """
     n = int(prm[I_NB])
+    cage_phase = cage_angle + prm[I_PHI0]                     # phi_0 of ball 0 (eq 6)
+    s, c = sincos(cage_phase)
+    sd, cd = sincos(2.0 * PI / n)
     for j in range(n):
-        phi = ball_angle(j, n, cage_angle, prm[I_PHI0])
-        s, c = sincos(phi)
-        p_i, q_i, p_o, q_o = race_waviness(race_wav, phi, shaft_angle)
-        w_i, w_o = ball_waviness(ball_wav, ball_phase, j, psi_b[j])
+        # eq 6 by rotation: ball j + 1 sits 2 pi / N further on
         geo[j, G_COS] = c
         geo[j, G_SIN] = s
-        geo[j, G_PI] = p_i
-        geo[j, G_QI] = q_i
-        geo[j, G_PO] = p_o
-        geo[j, G_QO] = q_o
+        c, s = c * cd - s * sd, s * cd + c * sd
+        for col in range(G_PI, N_GEO):
+            geo[j, col] = 0.0
+        w_i, w_o = ball_waviness(ball_wav, ball_phase, j, psi_b[j])
         geo[j, G_WI] = w_i
         geo[j, G_WO] = w_o
+    race_waviness_all_balls(race_wav, cage_phase, shaft_angle, n, geo, G_PI)
 
 
 @njit(cache=True)

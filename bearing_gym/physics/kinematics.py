@@ -31,35 +31,40 @@ def race_control_kinematics(ci: float, si: float, co: float, so: float, omega: f
     ``ci, si, co, so`` are cos/sin of alpha_i and alpha_o. The spin-axis angle beta, which the
     dynamics need only through sin(beta) (already in M_g), is :func:`spin_axis_angle`.
     """
+    # one division for the whole group: 1/den and its powers by multiplication (this runs at
+    # every ball residual; a division costs several multiplications)
     cd = ci * co + si * so          # cos(a_i - a_o)
     sd = si * co - ci * so          # sin(a_i - a_o)
     den = 1.0 + cd
-    den2 = den * den
-    cmg = ib * omega * omega / gamma
+    inv_g_den = 1.0 / (gamma * den)
+    inv_den = gamma * inv_g_den     # 1 / den
+    inv_den2 = inv_den * inv_den
+    two_sd_den3 = 2.0 * sd * inv_den2 * inv_den
+    cmg = ib * omega * omega * den * inv_g_den     # I_b omega^2 / gamma
     if not inner_control:
         a = 1.0 - gamma * ci
-        wm = omega * a / den
-        dwm_dai = omega * (gamma * si / den + a * sd / den2)
-        dwm_dao = -omega * a * sd / den2
-        mg = -cmg * a * a * so / den2
-        dmg_dai = -cmg * (2.0 * a * gamma * si * so / den2 + a * a * so * 2.0 * sd / (den2 * den))
-        dmg_dao = -cmg * (a * a * co / den2 - a * a * so * 2.0 * sd / (den2 * den))
+        wm = omega * a * inv_den
+        dwm_dai = omega * (gamma * si * inv_den + a * sd * inv_den2)
+        dwm_dao = -omega * a * sd * inv_den2
+        mg = -cmg * a * a * so * inv_den2
+        dmg_dai = -cmg * (2.0 * a * gamma * si * so * inv_den2 + a * a * so * two_sd_den3)
+        dmg_dao = -cmg * (a * a * co * inv_den2 - a * a * so * two_sd_den3)
         s = math.sqrt(1.0 + 2.0 * gamma * co + gamma * gamma)
-        wb = -omega * s * a / (gamma * den)
+        wb = -omega * s * a * inv_g_den
     else:
         num = cd - gamma * co
-        wm = omega * num / den
-        dwm_dai = omega * sd * (num - den) / den2
-        dwm_dao = omega * ((sd + gamma * so) / den - num * sd / den2)
+        wm = omega * num * inv_den
+        dwm_dai = omega * sd * (num - den) * inv_den2
+        dwm_dao = omega * ((sd + gamma * so) * inv_den - num * sd * inv_den2)
         b = 1.0 + gamma * co
         pp = b * num
         dp_dai = -b * sd
         dp_dao = -gamma * so * num + b * (sd + gamma * so)
-        mg = -cmg * pp * si / den2
-        dmg_dai = -cmg * (dp_dai * si / den2 + pp * ci / den2 + pp * si * 2.0 * sd / (den2 * den))
-        dmg_dao = -cmg * (dp_dao * si / den2 - pp * si * 2.0 * sd / (den2 * den))
+        mg = -cmg * pp * si * inv_den2
+        dmg_dai = -cmg * (dp_dai * si * inv_den2 + pp * ci * inv_den2 + pp * si * two_sd_den3)
+        dmg_dao = -cmg * (dp_dao * si * inv_den2 - pp * si * two_sd_den3)
         s = math.sqrt(1.0 - 2.0 * gamma * ci + gamma * gamma)
-        wb = -omega * s * b / (gamma * den)
+        wb = -omega * s * b * inv_g_den
     return wm, dwm_dai, dwm_dao, mg, dmg_dai, dmg_dao, wb
 
 

@@ -22,6 +22,7 @@ from typing import TYPE_CHECKING, NamedTuple
 
 import numpy as np
 
+from .hertz import N_HERTZ_COEF, hertz_polynomial
 from .portable_math import sincos
 
 if TYPE_CHECKING:  # pragma: no cover
@@ -69,7 +70,10 @@ I_NM_MAXIT = 34
 I_NT_TOL = 35
 I_NT_MAXIT = 36
 I_DIVLIM = 37
-N_PRM = 38
+# Hertz constants K(cos alpha) of the inner and outer contact as polynomials (hertz.hertz_polynomial)
+I_KI = 38                    # 38..62: inner, the coefficients of K and of dK/d(cos alpha_i)
+I_KO = I_KI + N_HERTZ_COEF   # outer
+N_PRM = I_KO + N_HERTZ_COEF
 
 # the operating point ``op`` (settable between advance calls; the env's kernel sets it every
 # actuator update)
@@ -151,6 +155,8 @@ def pack_params(p: "BearingParams", damping_coefficients: np.ndarray | None = No
     prm[I_NT_TOL] = integ.newton_tol_m
     prm[I_NT_MAXIT] = integ.newton_max_iter
     prm[I_DIVLIM] = integ.divergence_limit_m
+    prm[I_KI:I_KI + N_HERTZ_COEF] = hertz_polynomial(db, dp, prm[I_RYI], prm[I_EEFF], outer=False)
+    prm[I_KO:I_KO + N_HERTZ_COEF] = hertz_polynomial(db, dp, prm[I_RYO], prm[I_EEFF], outer=True)
 
     rows = []
     for race_code, rw in ((0, p.waviness.inner), (1, p.waviness.outer)):

@@ -12,8 +12,7 @@ Eq 35 with the damping the paper leaves out (see ``params.Damping``):
 theta_s is the shaft angle (omega t at constant speed). The bearing force depends on the
 displacement only (the balls are quasi-static), so each Newmark step is solved by fixed-point
 iteration on the displacement (predictor: a_{n+1} extrapolated quadratically from a_n, a_{n-1},
-a_{n-2},
-and each ball's Newton warm start extrapolated quadratically from its last three steps): for a given F(X_{n+1}) the acceleration follows from the
+a_{n-2}, and each ball's Newton warm start extrapolated quadratically from its last three steps): for a given F(X_{n+1}) the acceleration follows from the
 linear system (M + gamma dt (C + G)) a = F + P - (C + G) v*, with v* = v_n + (1 - gamma) dt a_n,
 then X_{n+1} = X_n + dt v_n + dt^2 ((1/2 - beta) a_n + beta a_{n+1}); the iteration contracts
 by theta ~ beta (omega_max dt)^2 per pass (measured: 1e-4 to 4e-4 at dt = 10 us). The cage angle

@@ -99,3 +99,39 @@ def test_unloaded_ball_at_rest_carries_nothing():
     assert status == 0 and vr == 0.0 and vz == 0.0
     assert out[0, 0] == 0.0 and out[0, 1] == 0.0
     assert np.all(np.isfinite(out))
+
+
+@pytest.mark.parametrize("rpm", RPM_CASES)
+@pytest.mark.parametrize("miss_m", [5e-9, 2e-8, 6e-8])
+def test_the_quadratic_stop_is_within_the_rotor_tolerance_of_the_solution(rpm, miss_m):
+    """The ball Newton stops once its error estimate step^2 / delta_min is below the rotor's
+    newmark_tol_m (the env's 1e-10 m): the point it returns must then lie within that tolerance
+    of the converged solution (an independent solve from it with the step rule alone, to
+    1e-15 m), for warm starts that miss by 5-60 nm in every direction; it never needs more
+    residuals than the step rule, and where the miss is within sqrt(tol delta_min) (5 nm here,
+    with deflections of a few um) it stops after one residual where the step rule (1 nm) needs
+    two."""
+    b = base_state(rpm)
+    env_prm = b["prm"].copy()
+    from bearing_gym.physics.layout import I_NM_TOL
+    from bearing_gym.physics.ball import B_NITER
+    env_prm[I_NM_TOL] = 1e-10
+    tight = env_prm.copy()
+    tight[NT_TOL] = 1e-15
+    tight[I_NM_TOL] = 1e-30                         # the step rule alone
+    args = (b["u"][0] + 1e-6, b["u"][1] - 2e-6, b["dist"][0], b["dist"][1], b["omega"], False)
+    out = np.zeros((1, N_BALL_OUT))
+    v_star = solve_ball(0.0, 0.0, *args, tight, out, 0)[:2]
+    single = 0
+    for angle in np.linspace(0.0, 2 * math.pi, 8, endpoint=False):
+        start = (v_star[0] + miss_m * math.cos(angle), v_star[1] + miss_m * math.sin(angle))
+        out = np.zeros((1, N_BALL_OUT))
+        vr, vz, status = solve_ball(*start, *args, env_prm, out, 0)
+        assert status == 0
+        assert math.hypot(vr - v_star[0], vz - v_star[1]) < 1e-10
+        single += out[0, B_NITER] == 1.0
+        out_step = np.zeros((1, N_BALL_OUT))
+        solve_ball(*start, *args, tight, out_step, 0)
+        assert out_step[0, B_NITER] >= out[0, B_NITER]
+    if miss_m <= 5e-9:
+        assert single == 8

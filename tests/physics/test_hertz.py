@@ -17,7 +17,8 @@ import pytest
 from scipy.optimize import brentq
 from scipy.special import ellipe, ellipk
 
-from bearing_gym.physics.hertz import hertz_constant, inner_rx, outer_rx
+from bearing_gym.physics.hertz import (HERTZ_POLY_RTOL, hertz_constant, hertz_constant_poly,
+                                       hertz_polynomial, inner_rx, outer_rx)
 
 DB, DP, RI, RO = 19.05e-3, 140e-3, 10.287e-3, 9.906e-3
 E_EFF = 208e9 / (1 - 0.3 ** 2)
@@ -92,3 +93,30 @@ def test_rx_derivatives(alpha):
         rm, _ = fn(DB, DP, math.cos(alpha - h), math.sin(alpha - h))
         _, d = fn(DB, DP, math.cos(alpha), math.sin(alpha))
         assert d == pytest.approx((rp - rm) / (2 * h), rel=1e-6)
+
+
+@pytest.mark.parametrize("d_b", [DB, 2 * DB])        # the paper's bearing; one with balls twice as large
+@pytest.mark.parametrize("outer", [False, True])
+def test_the_packed_polynomial_is_the_brewe_hamrock_constant(d_b, outer):
+    """The kernel evaluates K(cos alpha) from a degree-12 interpolant (hertz.hertz_polynomial):
+    it must equal eq A.1 (the fit above) to HERTZ_POLY_RTOL relative over the whole range
+    cos(alpha) in [0, 1], between the nodes too, and its derivative must be that of eq A.1,
+    dK/dR_x dR_x/d(cos alpha) (A.6/A.7: dR_x/dc = -/+ D_b^2 / (2 D_p)), to 1e-9."""
+    r = (RO / DB if outer else RI / DB) * d_b         # the same groove conformity
+    r_y = r / (2 * r / d_b - 1)
+    coef = hertz_polynomial(d_b, DP, r_y, E_EFF, outer=outer)
+    rx = outer_rx if outer else inner_rx
+    drx_dc = (1.0 if outer else -1.0) * d_b * d_b / (2 * DP)
+    for c in np.linspace(0.0, 1.0, 997):
+        k_poly, dk_dc = hertz_constant_poly(coef, 0, c)
+        k, dk_drx = hertz_constant(rx(d_b, DP, c, 0.0)[0], r_y, E_EFF)
+        assert abs(k_poly / k - 1.0) <= HERTZ_POLY_RTOL
+        assert dk_dc == pytest.approx(dk_drx * drx_dc, rel=1e-9, abs=1e-9 * k)
+
+
+def test_a_bearing_the_polynomial_cannot_follow_is_refused_by_name():
+    """Balls almost as large as the pitch diameter bring the interpolant's singularity
+    (cos alpha = D_p / D_b) next to [0, 1]: the packing refuses instead of running a wrong K."""
+    d_b = 0.9 * DP
+    with pytest.raises(ValueError, match="ball_diameter_m / pitch_diameter_m = 0.9 "):
+        hertz_polynomial(d_b, DP, 1.1 * d_b / 2 / (1.1 - 1), E_EFF, outer=False)

@@ -58,3 +58,30 @@ def test_outer_waviness_of_order_n_keeps_the_rotor_centred():
     assert np.max(np.abs(rec.x)) < 1e-12 and np.max(np.abs(rec.y)) < 1e-12
     assert np.max(np.abs(rec.theta_x)) < 1e-10 and np.max(np.abs(rec.theta_y)) < 1e-10
     assert np.ptp(rec.z[len(rec) // 2:]) > 1e-8
+
+
+def test_waviness_of_all_balls_by_rotation_equals_the_per_ball_sums():
+    """bearing.ball_geometry advances each ball's angle and each waviness term by the fixed ball
+    spacing (a rotation) instead of evaluating eqs 6 and 9-12 per ball: the same values up to
+    the rounding of the angles (independent: race_waviness evaluates every ball's cosine
+    directly). A cosine's argument n (phi - theta) + xi is rounded to ~|argument| eps in either
+    way, and the rotation adds about one ulp per ball: the bound is the amplitude times that."""
+    from bearing_gym.physics.bearing import G_COS, G_PI, G_SIN, N_GEO, ball_geometry
+    from bearing_gym.physics.layout import pack_params
+    wav = Waviness(inner=RaceWaviness(orders=(18, 3), radial_amplitudes_m=(0.5e-6, 0.2e-6),
+                                      axial_amplitudes_m=(0.1e-6, 0.0), radial_phases_rad=(0.3, 2.0)),
+                   outer=RaceWaviness(orders=(18, 25), radial_amplitudes_m=(0.4e-6, 1e-7),
+                                      axial_amplitudes_m=(0.0, 3e-7)))
+    packed = pack_params(bearing_gym.default_params(waviness=wav, initial_cage_angle_rad=0.4))
+    n = int(packed.prm[0])
+    for cage, shaft in ((0.0, 0.0), (12.345, 98.7), (-3.0, 1e3)):
+        geo = np.zeros((n, N_GEO))
+        ball_geometry(cage, shaft, np.zeros(n), packed.prm, packed.race_wav, packed.ball_wav,
+                      packed.ball_phase, geo)
+        for j in range(n):
+            phi = ball_angle(j, n, cage, 0.4)
+            assert abs(geo[j, G_COS] - math.cos(phi)) < 1e-14 and abs(geo[j, G_SIN] - math.sin(phi)) < 1e-14
+            expected = race_waviness(packed.race_wav, phi, shaft)
+            argument = 25 * (abs(cage) + abs(shaft) + 2 * math.pi) + 2 * math.pi   # largest order 25
+            bound = 1.3e-6 * (4 * argument + 4 * n) * np.finfo(float).eps           # sum of amplitudes 1.3 um
+            np.testing.assert_allclose(geo[j, G_PI:G_PI + 4], expected, rtol=0, atol=bound)
