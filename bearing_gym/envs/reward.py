@@ -22,9 +22,10 @@ term                  cost per control interval (dimensionless; the reward is mi
 ``heat``              h = s_h (P / P_max)^1.33 (n / n_max). Palmgren: the load-dependent friction
                       torque is M_1 = f_1 P d_m with f_1 = z (P_0 / C_0)^0.33 for ball bearings,
                       so M_1 ~ P^1.33, and its heat M_1 omega ~ P^1.33 n.
-``fatigue``           min(s_f u / u_ref, s_h + s_f - h): the fraction u of the bearing's L10
+``fatigue``           C(s_f u / u_ref, s_h + s_f - h): the fraction u of the bearing's L10
                       rating life the interval used per second (Lundberg-Palmgren, below),
-                      relative to u_ref, the same at the costliest corner of the envelope.
+                      relative to u_ref, the same at the costliest corner of the envelope; C a
+                      smooth cap that keeps heat + fatigue below s_h + s_f (below).
 ``actuation``         w_a |Delta P| / (P_max - P_min): the preload moved in the interval.
 ``termination``       on termination only (the other terms are then 0): the worst cost of
                       one interval times (1 + the intervals left in the episode).
@@ -65,17 +66,21 @@ carry the load).
 Why these weights (nothing here is fitted to a policy):
 
 * heat and fatigue share the secondary cost equally (s_h = s_f = 0.5) and are scaled so that
-  together they cost exactly 1 at the costliest corner of the envelope (P_max, n_max,
-  F_r,max, c_max, static loads). Both follow the physical law of their term, so ratios between
+  each would cost its share at the costliest corner of the envelope (P_max, n_max, F_r,max,
+  c_max, static loads; the fatigue's cap below bends its 0.5 there to 0.475). Both follow the physical law of their term, so ratios between
   operating points are physical (twice the preload, 2.5 times the heat; the fatigue term is
   today's fraction of the L10 life used per second). The unbalance and the vibration load the
-  contacts beyond the static corner, so the fatigue term is capped where heat + fatigue would
-  exceed s_h + s_f = 1: that keeps the next point exact and bounds the termination penalty. It
-  binds only in quasi-periodic motion (where the vibration term dominates anyway) and in
-  period-1 motion beyond the reward map's unbalances: at 20,000-25,000 rpm with the ``field``
-  tier's 30 um the synchronous orbit reaches outer loads of 7-11 kN and u of 2-10 u_ref, and
-  there every period-1 preload's heat + fatigue is 1 (at 20,000-25,000 rpm / 250 N / 17 um
-  with 10-20 um, u stayed below 0.9 u_ref).
+  contacts beyond the static corner, so the fatigue term has room b = s_h + s_f - h (times
+  n / n_max beyond the envelope's speed) and is capped smoothly below it: C(x, b) = x for
+  x <= 0.9 b, else 0.9 b + 0.1 b y / (1 + y), y = (x - 0.9 b) / (0.1 b) (continuous with its
+  slope, strictly increasing, < b). So vibration stays first and the termination penalty a
+  bound, and where the cap acts the reward still ranks the preloads by the life they use,
+  if weakly (a hard min(x, b) would make every such preload cost exactly 1). At the static
+  corner itself x = b = 0.5, so heat + fatigue = 0.5 + 0.45 + 0.025 = 0.975 there. The cap acts in
+  quasi-periodic motion (where the vibration term dominates anyway) and in period-1 motion
+  beyond the reward map's unbalances: at 20,000-25,000 rpm with the ``field`` tier's 30 um the
+  synchronous orbit reaches outer loads of 7-11 kN and u of 2-10 u_ref (at 20,000-25,000 rpm /
+  250 N / 17 um with 10-20 um, u stayed below 0.9 u_ref).
 * vibration comes first: a quasi-periodic interval costs at least 1, as much as the most
   expensive preload anywhere in the envelope, so no saving of heat or life can pay for
   quasi-periodic motion. On top of that, every 10 um RMS of non-synchronous vibration costs as
@@ -108,7 +113,7 @@ from bearing_gym.validation import check_real
 from .measurement import StepMeasurement
 from .parts import part_entry_point
 
-__all__ = ["Reward", "VibrationFirstReward", "REWARD_TERMS", "corner_life_used_per_s"]
+__all__ = ["Reward", "VibrationFirstReward", "REWARD_TERMS", "corner_life_used_per_s", "smooth_cap"]
 
 REWARD_TERMS = ("vibration", "heat", "fatigue", "actuation", "termination")
 HEAT_LOAD_EXPONENT = 1.33      # Palmgren: M_1 = f_1 P d_m, f_1 ~ (P_0 / C_0)^0.33
@@ -123,6 +128,23 @@ def corner_life_used_per_s(preload_n: float, speed_rpm: float, radial_load_n: fl
     return static_life_used_per_s(default_params(
         shaft_speed_rpm=speed_rpm, axial_preload_n=preload_n, radial_load_x_n=radial_load_n,
         clearance_inner_m=clearance_m, clearance_outer_m=clearance_m))
+
+
+#: Where the fatigue term's smooth cap starts to bend, as a share of its room (module docstring).
+CAP_KNEE = 0.9
+
+
+def smooth_cap(x, room) -> np.ndarray:
+    """C(x, b) = x for x <= k b, else k b + s y / (1 + y) with s = (1 - k) b, y = (x - k b) / s,
+    k = ``CAP_KNEE``: continuous with its first derivative (1 at the knee), strictly increasing
+    in x (algebraically, so in floating point too, where an exponential tail would round to b),
+    below b; 0 where b = 0. IEEE operations only."""
+    x, room = np.broadcast_arrays(np.asarray(x, dtype=np.float64), np.asarray(room, dtype=np.float64))
+    knee = CAP_KNEE * room
+    soft = (1.0 - CAP_KNEE) * room
+    over = (x > knee) & (soft > 0.0)
+    y = np.where(over, (x - knee) / np.where(soft > 0.0, soft, 1.0), 0.0)
+    return np.where(over, knee + soft * y / (1.0 + y), np.minimum(x, knee + soft))
 
 
 @runtime_checkable
@@ -184,12 +206,13 @@ class VibrationFirstReward:
 
     def secondary_costs(self, preload_n, shaft_speed_rad_s, life_used_per_s) -> tuple[np.ndarray, np.ndarray]:
         """(heat, fatigue) costs (>= 0) of an interval: the heat at its preload and speed, the
-        fatigue from the fraction of the L10 life it used per second (1/s), capped so that heat +
-        fatigue never exceed s_h + s_f (times n / n_max beyond the envelope's speed)."""
+        fatigue from the fraction of the L10 life it used per second (1/s), capped smoothly
+        (:func:`smooth_cap`) so that heat + fatigue stay below s_h + s_f (times n / n_max beyond
+        the envelope's speed)."""
         heat = self.heat_cost(preload_n, shaft_speed_rad_s)
         fatigue = self.fatigue_share * np.asarray(life_used_per_s, dtype=np.float64) / self.reference_life_used_per_s
         room = (self.heat_share + self.fatigue_share) * np.maximum(self._speed_ratio(shaft_speed_rad_s), 1.0) - heat
-        return heat, np.minimum(fatigue, np.maximum(room, 0.0))
+        return heat, smooth_cap(fatigue, np.maximum(room, 0.0))
 
     def vibration_cost(self, quasi_periodic, nonsync_rms_m) -> np.ndarray:
         amp_um = np.minimum(np.asarray(nonsync_rms_m) * 1e6, self.amplitude_cap_um)

@@ -212,13 +212,33 @@ def test_period1_life_used_is_close_to_the_static_equilibriums():
 
 
 # --- the reward's normalisation ---------------------------------------------------------------
-def test_the_costliest_corner_costs_the_fatigue_share():
+def test_the_costliest_corner_costs_the_fatigue_share_bent_by_the_cap():
     r = VibrationFirstReward()
     eq = _static(25000.0, 2000.0, radial=500.0, clearance=30e-6)
     u = 25000.0 / 60.0 / (1e6 * l10_by_hand(eq.q_i, eq.q_o, *harris_capacities_by_hand()))
     assert r.reference_life_used_per_s == pytest.approx(u, rel=1e-12)
-    _, fatigue = r.secondary_costs(2000.0, 25000.0 * RPM, u)
-    assert fatigue == pytest.approx(r.fatigue_share, rel=1e-12)
+    heat, fatigue = r.secondary_costs(2000.0, 25000.0 * RPM, u)
+    # there the fatigue's raw cost s_f u / u_ref = 0.5 meets its room 1 - heat = 0.5, where the
+    # smooth cap bends it to 0.45 + 0.05 * 1 / (1 + 1) (reward docstring)
+    assert heat == pytest.approx(r.heat_share, rel=1e-12)
+    assert fatigue == pytest.approx(0.9 * 0.5 + 0.1 * 0.5 * 0.5, rel=1e-12)
     # and it is the costliest clearance of the envelope: the 4 um bearing uses less life there
     eq4 = _static(25000.0, 2000.0, radial=500.0, clearance=4e-6)
     assert l10_by_hand(eq4.q_i, eq4.q_o, *harris_capacities_by_hand()) > 1.2 * (25000.0 / 60.0 / u / 1e6)
+
+
+def test_the_smooth_cap_is_the_identity_below_its_knee_continuous_increasing_and_bounded():
+    """C(x, b): x itself up to 0.9 b; above, continuous in value and slope at the knee (one-sided
+    differences agree to 1e-6), strictly increasing, below b, and 0 without room."""
+    from bearing_gym.envs.reward import smooth_cap
+    b = 0.37
+    below = np.linspace(0.0, 0.9 * b, 50)
+    np.testing.assert_array_equal(smooth_cap(below, b), below)
+    x = np.linspace(0.0, 20.0 * b, 4001)             # up to 20 times the room: still ranked
+    c = smooth_cap(x, b)
+    assert np.all(np.diff(c) > 0.0) and np.all(c < b)
+    k, h = 0.9 * b, 1e-7
+    assert smooth_cap(k + h, b) == pytest.approx(k + h, abs=1e-12)
+    slope_above = (smooth_cap(k + 2 * h, b) - smooth_cap(k + h, b)) / h
+    assert slope_above == pytest.approx(1.0, abs=1e-5)
+    assert float(smooth_cap(5.0, 0.0)) == 0.0
