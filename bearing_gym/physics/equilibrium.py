@@ -22,7 +22,7 @@ from .ball import (B_CI, B_CO, B_CTRL, B_DI, B_DO, B_MG, B_QI, B_QO, B_SI, B_SO,
                    N_BALL_OUT)
 from .bearing import bearing_force, cage_speed
 from .kinematics import race_control_kinematics
-from .layout import (CONTROL_INNER, I_CONTROL, I_GAM, I_IB, I_NT_TOL, I_RP, O_OMEGA,
+from .layout import (CONTROL_INNER, I_CONTROL, I_GAM, I_IB, I_NM_TOL, I_RP, O_OMEGA,
                      PackedParams, pack_params)
 from .portable_linalg import lstsq
 from .portable_math import pow, sin
@@ -139,7 +139,8 @@ def static_equilibrium(params, *, max_iter: int = 200, tol_n: float = 1e-4) -> S
     """5-DOF quasi-static equilibrium of ``params`` at its speed and loads, no unbalance.
 
     Converged when max |F + P| (moments divided by r_p) is below ``tol_n`` newtons; the default
-    1e-4 N sits just above the noise of the ball solutions (each stopped at a 1e-12 m step).
+    1e-4 N sits just above the noise of the ball solutions (each stopped by its step rule,
+    ``newton_tol_m``, and the first-order last step).
 
     Returns per-ball contact angles, loads and displacements, the rotor displacement U, the
     bearing stiffness matrix (central differences) and the cage/shaft speed ratio.
@@ -148,6 +149,10 @@ def static_equilibrium(params, *, max_iter: int = 200, tol_n: float = 1e-4) -> S
     """
     packed = pack_params(params)
     prm = packed.prm
+    # each ball to its step rule alone (newton_tol_m): the quadratic stop of ball.solve_ball
+    # trusts the rotor's Newmark tolerance, and there is no Newmark iteration here; the
+    # stiffness's central differences want every ball solved to the same depth
+    prm[I_NM_TOL] = 0.0
     rp = prm[I_RP]
     # cage angle 0 at t = 0; the initial cage angle phi_0 is in prm (ball angles, eq 6)
     force = _ForceEvaluator(packed, 0.0)
