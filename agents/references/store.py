@@ -37,6 +37,7 @@ changed since.
 from __future__ import annotations
 
 import json
+import os
 from dataclasses import asdict, dataclass, field
 from pathlib import Path
 from typing import Any
@@ -204,7 +205,9 @@ def save_choice(choice: ValidationChoice, path: str | Path = STORE_PATH) -> None
     data["tiers"][choice.tier] = choice.to_json()
     data["tiers"] = dict(sorted(data["tiers"].items()))
     path.parent.mkdir(parents=True, exist_ok=True)
-    path.write_text(json.dumps(data, indent=1) + "\n")
+    tmp = path.with_name(path.name + ".tmp")      # whole or not at all: parallel readers (agents.regenerate)
+    tmp.write_text(json.dumps(data, indent=1) + "\n")
+    os.replace(tmp, path)
 
 
 # --- the test references --------------------------------------------------------------------

@@ -20,7 +20,7 @@ from bearing_gym.physics.rating import friction_torque_n_m, life_used_per_revolu
 from bearing_gym.physics.status import ST_OK, status_text
 from bearing_gym.units import rad_s_to_rpm
 
-from .contact import C_INNER_Q3_MEAN, C_OUTER_Q10_3_MEAN
+from .contact import C_INNER_Q3_MEAN, C_OUTER_Q10_3_MEAN, C_SHAFT_SPEED_MEAN
 from .core import PreloadBatch
 from .measurement import StepMeasurement
 from .parts import rebuild_dataclass, resolve_part
@@ -77,8 +77,8 @@ def measurement(batch: PreloadBatch, idx: np.ndarray, preload_before: np.ndarray
     """The :class:`StepMeasurement` of ``batch``'s envs ``idx`` after their last kernel step (or
     settle): what the observation model and the reward read. The life used per second is
     Lundberg-Palmgren's 1 / L_10 of the interval's contact loads (the bearing's capacities,
-    ``batch.dynamic_capacities_n``) times the shaft's revolutions per second at the interval's
-    end; the friction torque Palmgren's M_1 at its preload and radial load
+    ``batch.dynamic_capacities_n``) times the shaft's revolutions per second over the interval
+    (its mean speed: a ramp's revolutions, not its end speed's); the friction torque Palmgren's M_1 at its preload and radial load
     (:mod:`bearing_gym.physics.rating`)."""
     a = batch.actuator
     omega = batch.omega()[idx]
@@ -86,7 +86,7 @@ def measurement(batch: PreloadBatch, idx: np.ndarray, preload_before: np.ndarray
     radial = batch.radial_load_n()[idx]
     preload = batch.preload[idx].copy()
     life = life_used_per_revolution(contact[:, C_INNER_Q3_MEAN], contact[:, C_OUTER_Q10_3_MEAN],
-                                    batch.dynamic_capacities_n) * (omega / TWO_PI)
+                                    batch.dynamic_capacities_n) * (contact[:, C_SHAFT_SPEED_MEAN] / TWO_PI)
     return StepMeasurement(
         features=batch.feats[idx].copy(), preload_n=preload,
         preload_before_n=np.asarray(preload_before, dtype=float), setpoint_n=batch.setpoint[idx].copy(),

@@ -11,6 +11,9 @@ the kernel at the start of the interval) and from the bearing stiffness at the o
   equivalent loads of :mod:`bearing_gym.physics.rating` are made of (Palmgren-Miner: the
   damage of a varying load is the mean of Q^w over time);
 * ``C_MAX_INNER_N``, ``C_MAX_OUTER_N``: the largest inner and outer contact load of the interval;
+* ``C_SHAFT_SPEED_MEAN`` (rad/s): the shaft angle the interval turned over the time it took (its
+  record rows, first to last): the revolutions per second that use the life, also while the
+  speed ramps within the interval;
 * ``C_RADIAL_STIFFNESS``, ``C_AXIAL_STIFFNESS`` (N/m): the bearing's direct stiffness at the
   interval's mean displacement, by central differences of the bearing force (eq 33):
   K_kk = -(F_k(U + h e_k) - F_k(U - h e_k)) / (2 h), h = ``STIFFNESS_STEP_M``, the other four
@@ -30,7 +33,7 @@ from numba import njit
 
 from bearing_gym.physics.bearing import N_GEO, ball_geometry, bearing_force_on
 from bearing_gym.physics.layout import I_NB, O_OMEGA
-from bearing_gym.physics.rotor import (R_X, S_CAGE, S_LOAD_STEPS, S_MAX_QI, S_MAX_QO, S_SHAFT, S_SUM_QI3,
+from bearing_gym.physics.rotor import (R_SHAFT, R_T, R_X, S_CAGE, S_LOAD_STEPS, S_MAX_QI, S_MAX_QO, S_SHAFT, S_SUM_QI3,
                                        S_SUM_QO10_3)
 
 C_INNER_Q3_MEAN = 0     # mean over steps and balls of Q_i^3 (N^3)
@@ -39,7 +42,8 @@ C_MAX_INNER_N = 2       # largest inner contact load (N)
 C_MAX_OUTER_N = 3       # largest outer contact load (N)
 C_RADIAL_STIFFNESS = 4  # (K_xx + K_yy) / 2 (N/m)
 C_AXIAL_STIFFNESS = 5   # K_zz (N/m)
-N_CONTACT = 6
+C_SHAFT_SPEED_MEAN = 6  # the interval's mean shaft speed (rad/s): shaft angle turned / time taken
+N_CONTACT = 7
 STIFFNESS_STEP_M = 1e-8  # central-difference step: (h / delta)^2 < 1e-4 for deflections > 1 um
 
 
@@ -66,6 +70,11 @@ def interval_contact(prm, op, race_wav, ball_wav, ball_phase, ball_size, scal, p
     out[C_OUTER_Q10_3_MEAN] = scal[S_SUM_QO10_3] / (steps * n)
     out[C_MAX_INNER_N] = scal[S_MAX_QI]
     out[C_MAX_OUTER_N] = scal[S_MAX_QO]
+    last = rows - 1
+    if last > 0:
+        out[C_SHAFT_SPEED_MEAN] = (rec[last, R_SHAFT] - rec[0, R_SHAFT]) / (rec[last, R_T] - rec[0, R_T])
+    else:
+        out[C_SHAFT_SPEED_MEAN] = op[O_OMEGA]
     U = np.zeros(5)
     for r in range(rows):
         for k in range(5):

@@ -31,7 +31,8 @@ term                  cost per control interval (dimensionless; the reward is mi
                       one interval times (1 + the intervals left in the episode).
 ====================  ===================================================================
 
-P is the actual axial preload, n the shaft speed (at the interval's end), F_r the radial load.
+P is the actual axial preload, n the shaft speed (heat: at the interval's end; fatigue: its
+mean over the interval), F_r the radial load.
 P_max, P_min, n_max, F_r,max and c_max are the envelope of the task (the actuator's range,
 25,000 rpm, 500 N, the tiers' largest clearance 30 um).
 
@@ -48,13 +49,18 @@ steps and the Z balls (Palmgren-Miner: the mean of Q^w over time and balls):
     Q_eo^(10/3) = 1/(K Z) sum_k sum_j Q_oj^(10/3)      (stationary outer race, w = 10/3)
     L_i = (Q_ci / Q_ei)^3,  L_o = (Q_co / Q_eo)^3       (10^6 revolutions)
     L_10 = (L_i^(-10/9) + L_o^(-10/9))^(-9/10)
-    u = (n / 60 s) / (L_10 10^6)                        (n in rpm: life used per second, 1/s)
+    u = (n / 60 s) / (L_10 10^6)                        (life used per second, 1/s)
+
+with n (rpm) the interval's mean shaft speed, the revolutions it turned over its duration (a
+ramp's, not its end speed's).
 
 with the races' basic dynamic capacities (N, D in mm; upper signs inner, lower outer)
 Q_c = 98.1 (2f / (2f - 1))^0.41 (1 -+ gamma)^1.39 / (1 +- gamma)^(1/3) (gamma / cos alpha)^0.3
 D^1.8 Z^(-1/3), f = groove radius / D, gamma = D cos alpha / d_m: Q_ci = 9646 N and
 Q_co = 19345 N for the default bearing. u_ref is u at the static (quasi-static) equilibrium
-(:func:`bearing_gym.physics.static_equilibrium`) of the default bearing at the costliest corner
+(:func:`bearing_gym.physics.static_equilibrium`) of the default bearing (the paper's, whatever
+bearing the env simulates: an env built with another bearing's ``params`` is charged against
+this one's corner) at the costliest corner
 of the envelope: P_max = 2000 N, n_max = 25,000 rpm, F_r,max = 500 N and the largest clearance
 c_max = 30 um (L_10 = 96.5 h there; the clearance matters: with 4 um it is 124 h). At high speed
 the outer race's centrifugal load dominates: at 25,000 rpm a ball presses on it with 2.6 kN

@@ -39,7 +39,7 @@ from numba import njit
 from numba.core import types
 from numba.extending import intrinsic
 
-__all__ = ["exp", "expm1", "log", "pow", "sincos", "sin", "cos", "cbrt", "tanh", "pow_array",
+__all__ = ["exp", "expm1", "log", "pow", "sincos", "sin", "cos", "cbrt", "cube_root_near", "tanh", "pow_array",
            "sincos_array", "standard_normal", "PI", "TWO_PI"]
 
 PI = float.fromhex("0x1.921fb54442d18p+1")          # the double nearest pi (= math.pi)
@@ -337,3 +337,19 @@ def _log_array(x):
     for i in range(x.shape[0]):
         out[i] = log(x[i])
     return out
+
+
+@njit(cache=True, inline="always")
+def cube_root_near(x, guess):
+    """x^(1/3) for x > 0 from ``guess``, a cube root of a nearby value: two Halley steps
+    y <- y (y^3 + 2x) / (2y^3 + x) (relative error e -> (2/3) e^3 each) when guess^3 is within
+    10 % of x (then e < 3.5 % and the result is within 2e-14), else the portable cbrt. Only
+    IEEE operations: the same bits on every CPU, at a tenth of cbrt's price when the guess is
+    last step's root of the same contact."""
+    y = guess
+    y3 = y * y * y
+    if not (0.9 * x < y3 < 1.1 * x):
+        return cbrt(x)
+    y = y * (y3 + 2.0 * x) / (2.0 * y3 + x)
+    y3 = y * y * y
+    return y * (y3 + 2.0 * x) / (2.0 * y3 + x)

@@ -47,13 +47,12 @@ from __future__ import annotations
 import math
 
 import numpy as np
-from numba import njit
 
 from .equilibrium import static_equilibrium
 from .portable_math import TWO_PI, cbrt, cos, pow, pow_array
 
 __all__ = ["dynamic_capacities_n", "life_used_per_revolution", "static_life_used_per_s", "static_capacity_n",
-           "static_equivalent_load_n", "friction_torque_n_m", "cube_root_near",
+           "static_equivalent_load_n", "friction_torque_n_m",
            "INNER_LIFE_EXPONENT", "OUTER_LIFE_EXPONENT", "RACE_COMBINATION_EXPONENT"]
 
 INNER_LIFE_EXPONENT = 3.0            # w of the rotating inner race
@@ -163,18 +162,3 @@ def friction_torque_n_m(geometry, radial_load_n, axial_load_n) -> np.ndarray:
     p1 = np.maximum(fa - 0.1 * fr, fr)
     return f1 * p1 * geometry.pitch_diameter_m
 
-
-@njit(cache=True, inline="always")
-def cube_root_near(x, guess):
-    """x^(1/3) for x > 0 from ``guess``, a cube root of a nearby value: two Halley steps
-    y <- y (y^3 + 2x) / (2y^3 + x) (relative error e -> (2/3) e^3 each) when guess^3 is within
-    10 % of x (then e < 3.3 % and the result is within 1e-14), else the portable cbrt. Only
-    IEEE operations: the same bits on every CPU, at a tenth of cbrt's price when the guess is
-    last step's root of the same contact."""
-    y = guess
-    y3 = y * y * y
-    if not (0.9 * x < y3 < 1.1 * x):
-        return cbrt(x)
-    y = y * (y3 + 2.0 * x) / (2.0 * y3 + x)
-    y3 = y * y * y
-    return y * (y3 + 2.0 * x) / (2.0 * y3 + x)

@@ -42,8 +42,7 @@ from .bearing import N_GEO, ball_geometry, bearing_force_on, cage_speed
 from .layout import (I_CTX, I_CTY, I_CX, I_CY, I_CZ, I_DIVLIM, I_DT, I_ECC, I_IR, I_IZ, I_MASS,
                      I_NB, I_NBETA, I_NGAMMA, I_NM_MAXIT, I_NM_TOL, I_RP, O_DAMPING, O_OMEGA,
                      O_PX, O_PY, O_PZ)
-from .portable_math import pow, sincos
-from .rating import cube_root_near
+from .portable_math import cube_root_near, pow, sincos
 from .status import ST_DIVERGED, ST_NEWMARK_NOT_CONVERGED, ST_OK  # noqa: F401 - ST_OK re-exported
 
 # status codes of integrate(): .status (ST_OK, ST_NEWMARK_NOT_CONVERGED, ST_DIVERGED; the ball
@@ -267,7 +266,7 @@ def integrate(prm, op, race_wav, ball_wav, ball_phase, ball_size, X, V, A, scal,
 def accumulate_contact_loads(ball_out, n, scal, qo_cbrt):
     """Add the accepted step's contact loads (``ball_out``, the step's last force evaluation) to
     the S_SUM_QI3 ... S_MAX_QO accumulators. Q_o^(10/3) = Q_o^3 Q_o^(1/3), the cube root by
-    :func:`.rating.cube_root_near` from the same ball's root at the last step (``qo_cbrt``)."""
+    :func:`.portable_math.cube_root_near` from the same ball's root at the last step (``qo_cbrt``)."""
     s3 = 0.0
     s10 = 0.0
     qi_max = scal[S_MAX_QI]

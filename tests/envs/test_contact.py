@@ -77,3 +77,22 @@ def test_the_stiffness_leaves_the_integrators_state_alone():
     assert np.array_equal(out, env.batch.contact[0])           # what the kernel wrote, again
     for n, arr in before.items():
         assert np.array_equal(arr, getattr(a, n)), n
+
+
+def test_the_life_counts_the_revolutions_the_interval_turned():
+    """The fatigue's revolutions per second are the interval's mean shaft speed: at a constant
+    speed exactly that speed (to rounding), and the life used is 1 / L_10 per revolution times it."""
+    from bearing_gym.envs import BearingPreloadEnv
+    from bearing_gym.envs.contact import C_SHAFT_SPEED_MEAN
+    env = BearingPreloadEnv(tier="stationary")
+    env.reset(seed=0, options={"shaft_speed_rpm": 17500.0, "radial_load_n": 250.0, "clearance_m": 17e-6,
+                               "initial_preload_n": 1200.0})
+    env.step(np.array([0.0], dtype=np.float32))
+    omega = 17500.0 * 2.0 * np.pi / 60.0
+    # the shaft angle adds omega dt each step: each addition rounds by up to half an ulp of the
+    # angle reached, so the angle turned in the interval's rows is exact to steps * eps * angle
+    from bearing_gym.physics.rotor import S_SHAFT
+    rows = int(env.batch.rows[0])
+    turned = omega * 0.02
+    bound = rows * np.finfo(float).eps * env.batch.scal[0, S_SHAFT] / turned
+    assert env.batch.contact[0, C_SHAFT_SPEED_MEAN] == pytest.approx(omega, rel=bound)

@@ -14,7 +14,8 @@ from bearing_gym.envs.core import env_params
 from bearing_gym.params import default_params
 from bearing_gym.physics import Simulator, static_equilibrium
 from bearing_gym.physics.ball import B_QI, B_QO
-from bearing_gym.physics.rating import (cube_root_near, dynamic_capacities_n, friction_torque_n_m,
+from bearing_gym.physics.portable_math import cube_root_near
+from bearing_gym.physics.rating import (dynamic_capacities_n, friction_torque_n_m,
                                         life_used_per_revolution, static_capacity_n)
 from bearing_gym.physics.rotor import (N_REC, S_LOAD_STEPS, S_MAX_QI, S_MAX_QO, S_SUM_QI3, S_SUM_QO10_3, integrate)
 
@@ -89,7 +90,7 @@ def test_cube_root_near_is_the_cube_root():
     for x in rng.uniform(1.0, 1e4, 200):
         exact = x ** (1 / 3)
         for guess in (exact * 1.02, exact * 0.97, exact * 1.5, exact * 0.1, 0.0):   # near: Halley, far: cbrt
-            assert cube_root_near(x, guess) == pytest.approx(exact, rel=1e-14)
+            assert cube_root_near(x, guess) == pytest.approx(exact, rel=2e-14)
 
 
 def test_friction_torque_is_palmgrens_load_term():
@@ -114,14 +115,13 @@ def _static(rpm, preload, radial=0.0, clearance=4e-6):
 
 def test_more_preload_at_fixed_speed_uses_more_inner_race_life():
     qci, qco = dynamic_capacities_n(GEOMETRY)
-    inner = []
+    inner, bearing = [], []
     for p in (300.0, 1000.0, 2000.0):
         eq = _static(15000.0, p)
         inner.append(life_used_per_revolution(np.mean(eq.q_i ** 3), 0.0, (qci, qco))[0])
-        # and the bearing's life used follows (the outer contacts carry the preload too)
-        if len(inner) > 1:
-            assert life_used_per_revolution(np.mean(eq.q_i ** 3), np.mean(eq.q_o ** (10 / 3)), (qci, qco))[0] > last
-        last = life_used_per_revolution(np.mean(eq.q_i ** 3), np.mean(eq.q_o ** (10 / 3)), (qci, qco))[0]
+        bearing.append(life_used_per_revolution(np.mean(eq.q_i ** 3), np.mean(eq.q_o ** (10 / 3)), (qci, qco))[0])
+    # and the bearing's life used follows (the outer contacts carry the preload too)
+    assert bearing[0] < bearing[1] < bearing[2]
     assert inner[0] < inner[1] < inner[2]
     assert inner[2] / inner[0] > 10.0        # Q_i ~ P: (2000 / 300)^3 = 296 at equal angles
 
