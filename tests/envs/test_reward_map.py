@@ -16,13 +16,14 @@ from bearing_gym.envs.reward_map import (GRID_CLEARANCES_M, GRID_ECCENTRICITIES_
 MAP = Path(__file__).resolve().parents[2] / "docs" / "reward_map.csv"
 N_CELLS = len(GRID_SPEEDS_RPM) * len(GRID_RADIAL_LOADS_N) * len(GRID_CLEARANCES_M) * len(GRID_ECCENTRICITIES_M)
 
-# The one point of the grid where a quasi-periodic preload out-earns its cell's best period-1 one:
-# 25,000 rpm / 500 N / 4 um / 5 um unbalance at 1000 N is quasi-periodic in only 5 of its 25
-# intervals (largest index 0.14, just over the 0.1 threshold), so its mean reward (-0.531) beats
-# the period-1 1500 N (-0.575) although each quasi-periodic interval costs it more than 1. The
-# reward scores intervals, so an intermittently quasi-periodic preload can win on the average;
-# (cell, preload) -> the largest quasi-periodic fraction and index it may have.
-INTERMITTENT_EXCEPTIONS = {((25000.0, 500.0, 4.0, 5.0), 1000.0): (0.2, 0.15)}
+# Points of the grid where a quasi-periodic preload out-earns its cell's best period-1 one
+# (quasi-periodic in only a few intervals, barely over the threshold, so that its mean reward can
+# beat a period-1 preload although each quasi-periodic interval costs more than 1: the reward
+# scores intervals); (cell, preload) -> the largest quasi-periodic fraction and index it may
+# have. Benchmark v1's map had one, 25,000 rpm / 500 N / 4 um / 5 um at 1000 N (5 of 25
+# intervals, index 0.14, -0.531 against the period-1 1500 N's -0.575); with v2's fatigue term
+# the period-1 1500 N uses less life than the old term charged it, and the map has none.
+INTERMITTENT_EXCEPTIONS: dict = {}
 
 
 def check_properties(points):
@@ -46,9 +47,13 @@ def check_properties(points):
                 max_fraction, max_index = INTERMITTENT_EXCEPTIONS[(cell, p.preload_n)]
                 assert 0.0 < p.quasi_periodic_fraction <= max_fraction and p.max_qpi <= max_index, p
                 exceptions.add((cell, p.preload_n))
-        # among period-1 preloads the lower one is preferred (heat and life)
-        rewards = [p.mean_reward for p in periodic]
-        assert all(a > b for a, b in zip(rewards, rewards[1:])), (cell, rewards)
+        # among period-1 preloads the lower one is preferred, unless it uses more life: heat
+        # always rises with the preload, while the life used (v2's fatigue, from the contact
+        # loads) can fall with it where a firmer preload shares a radial or unbalance load among
+        # more balls or calms a large period-1 orbit (25,000 rpm, 500 N, 4 um, 20 um: 1200 N
+        # uses more life than 2000 N)
+        for a, b in zip(periodic, periodic[1:]):
+            assert a.mean_reward > b.mean_reward or a.mean_fatigue < b.mean_fatigue, (cell, a, b)
     assert exceptions == set(INTERMITTENT_EXCEPTIONS)     # the list is what the grid shows, no more
     return n_checked
 
