@@ -153,6 +153,14 @@ class Manifest:
     def entry(self, name: str) -> dict[str, Any] | None:
         return self.products.get(name)
 
+    def start(self, name: str, inputs: dict, digest_in: str) -> None:
+        """Record that ``name`` is being built under ``digest_in`` with no part done yet (a
+        forced product: so that its force outlives a run stopped before any part ends)."""
+        e = self.products.get(name)
+        if e is None or e.get("input_hash") != digest_in or e.get("complete"):
+            self.products[name] = {"input_hash": digest_in, "inputs": inputs, "complete": False, "parts_done": []}
+            self.save()
+
     def part_done(self, name: str, inputs: dict, digest_in: str, key: str) -> None:
         """Record part ``key`` of ``name`` done under ``digest_in`` (starting a new record if the
         product's record was made under other inputs)."""

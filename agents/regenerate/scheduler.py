@@ -64,6 +64,8 @@ def select(products: list[Product], layout: Layout, manifest: Manifest, kernel: 
     nonces = {n: stamp if n in forced else (manifest.entry(n) or {}).get("inputs", {}).get("forced") for n in by}
     inputs = current_inputs(products, kernel, layout, nonces)
     states = {n: assess(by[n], *inputs[n], manifest.entry(n), layout) for n in by}
+    for n in forced:              # recorded now: a run stopped before a part ends keeps the force
+        manifest.start(n, *inputs[n])
     wanted: set[str] = set()
 
     def want(n: str) -> None:

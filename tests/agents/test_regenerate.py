@@ -120,6 +120,16 @@ def test_force_counts_as_a_change_and_its_dependants_follow(built):
     assert _run(built, _graph(built))[0].to_build == []                   # the force is recorded, not repeated
 
 
+def test_a_force_outlives_a_run_stopped_before_any_part_ends(built):
+    """--force NAME then a stop (a deadline already past) before a part of NAME finished: the next
+    run without --force still rebuilds NAME and its dependants."""
+    past = datetime.now() - timedelta(seconds=1)
+    sel, out = _run(built, _graph(built), force=["b"], deadline=past)
+    assert out.stopped_for_deadline and _ran(built) == []
+    sel, _ = _run(built, _graph(built))
+    assert sel.to_build == ["b", "d"] and sel.states["b"].state != FRESH
+
+
 def test_only_builds_a_product_and_what_it_needs(tmp_path):
     sel, out = _run(tmp_path, _graph(tmp_path), only=["b"])
     assert sel.to_build == ["a", "b"] and sorted(out.built) == ["a", "b"]
