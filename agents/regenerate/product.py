@@ -23,9 +23,11 @@ __all__ = ["Layout", "Part", "Product", "file_digest", "tree_digest", "missing_f
 
 #: what a part costs besides its simulation (a worker's imports, the numba cache), seconds
 PART_OVERHEAD_S = 5.0
-#: core-seconds per env step in an evaluation batch (about 90 env steps per core-second on the
-#: 2-core development VM), and a reset's settle in env steps (the median)
-STEP_CORE_S = 0.011
+#: core-seconds per env step in an evaluation batch, and a reset's settle in env steps (the
+#: median). Measured on benchmark v2's kernel on the 2-core development VM, two workers:
+#: validation:transient 663 s and contextual:transient 677 s against 3,408 s and 3,504 s at
+#: v1's 0.011 (about 90 env steps per core-second then, ~460 now)
+STEP_CORE_S = 0.0022
 SETTLE_STEPS = 27
 
 
