@@ -31,6 +31,10 @@ HERTZ_POLY_DEGREE = 12
 N_HERTZ_COEF = 2 * HERTZ_POLY_DEGREE + 1
 #: The interpolant must match eq A.1 this closely (relative) on [0, 1]; it reaches ~3e-15.
 HERTZ_POLY_RTOL = 1e-13
+#: and its derivative dK/d(cos alpha) that of eq A.1, relative to its largest value on [0, 1]
+#: (it reaches 2-3e-11 for the paper's bearing; it feeds the Jacobian and the first-order last
+#: Newton step, not the force)
+HERTZ_SLOPE_RTOL = 1e-9
 
 
 @njit(cache=True, inline="always")
@@ -94,7 +98,8 @@ def hertz_polynomial(d_b: float, d_p: float, r_y: float, e_eff: float, outer: bo
     bits on every CPU.
 
     Raises ``ValueError`` when the interpolant misses eq A.1 by more than ``HERTZ_POLY_RTOL``
-    (relative) at 4 (n + 1) points of [0, 1] (a bearing so far from the usual proportions that
+    (relative), or its derivative eq A.1's by more than ``HERTZ_SLOPE_RTOL``, at 4 (n + 1) + 1
+    points of [0, 1] (a bearing so far from the usual proportions that
     the degree is too low)."""
     n = HERTZ_POLY_DEGREE
     rx = outer_rx if outer else inner_rx
@@ -124,14 +129,18 @@ def hertz_polynomial(d_b: float, d_p: float, r_y: float, e_eff: float, outer: bo
             coef[i] += cheb[k] * t_next[i]
         t_prev, t_cur = t_cur, t_next
     out = np.array(coef + [2.0 * (k + 1) * coef[k + 1] for k in range(n)])
-    for m in range(4 * (n + 1) + 1):
-        c = m / (4.0 * (n + 1))
+    drx_dc = (1.0 if outer else -1.0) * d_b * d_b / (2.0 * d_p)          # A.6/A.7
+    checks = [m / (4.0 * (n + 1)) for m in range(4 * (n + 1) + 1)]
+    slopes = [hertz_constant(rx(d_b, d_p, c, 0.0)[0], r_y, e_eff)[1] * drx_dc for c in checks]
+    slope_scale = max(abs(v) for v in slopes)
+    for c, slope in zip(checks, slopes):
         exact = k_of(c)
-        approx = hertz_constant_poly(out, 0, c)[0]
-        if not abs(approx - exact) <= HERTZ_POLY_RTOL * exact:
+        approx, approx_slope = hertz_constant_poly(out, 0, c)
+        if not (abs(approx - exact) <= HERTZ_POLY_RTOL * exact
+                and abs(approx_slope - slope) <= HERTZ_SLOPE_RTOL * slope_scale):
             raise ValueError(f"ball_diameter_m / pitch_diameter_m = {d_b / d_p:.3g} is beyond what "
                              f"the kernel's Hertz constant follows: its degree-{n} polynomial "
-                             f"misses eq A.1 by {abs(approx / exact - 1):.1e} (relative) at "
+                             f"misses eq A.1 (or its slope) by {abs(approx / exact - 1):.1e} (relative) at "
                              f"cos(alpha) = {c:.3f} (ratios up to about 0.45 are followed to "
                              f"{HERTZ_POLY_RTOL:g}; raise HERTZ_POLY_DEGREE for larger balls)")
     return out
