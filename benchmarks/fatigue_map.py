@@ -35,9 +35,8 @@ ROOT = Path(__file__).resolve().parents[1]
 sys.path.insert(0, str(ROOT))
 
 from bearing_gym.envs import VibrationFirstReward  # noqa: E402
+from bearing_gym.envs.reward import corner_life_used_per_s  # noqa: E402
 from bearing_gym.envs.reward_map import cells_of, read_csv  # noqa: E402
-from bearing_gym.params import default_params  # noqa: E402
-from bearing_gym.physics.rating import static_life_used_per_s  # noqa: E402
 from bearing_gym.units import rpm_to_rad_s  # noqa: E402
 
 #: period-1 points of the map checked against the dynamic accumulated loads (--dynamic):
@@ -49,10 +48,9 @@ DYNAMIC_INTERVALS = 10
 
 
 def static_life(speed_rpm: float, radial_n: float, clearance_um: float, preload_n: float) -> float:
-    """u (1/s) at the static equilibrium of the default bearing at that operating point."""
-    return static_life_used_per_s(default_params(
-        shaft_speed_rpm=speed_rpm, axial_preload_n=preload_n, radial_load_x_n=radial_n,
-        clearance_inner_m=clearance_um * 1e-6, clearance_outer_m=clearance_um * 1e-6))
+    """u (1/s) at the static equilibrium of the default bearing at that operating point (the
+    reward's own :func:`~bearing_gym.envs.reward.corner_life_used_per_s`, cached)."""
+    return corner_life_used_per_s(preload_n, speed_rpm, radial_n, clearance_um * 1e-6)
 
 
 def rescore(points, reward: VibrationFirstReward) -> dict[tuple, dict]:
