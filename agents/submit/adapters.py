@@ -1,0 +1,129 @@
+"""Any policy behind the board's interface (``predict(obs, state, episode_start, deterministic) ->
+(actions, state)`` on a batch of observations): a plain callable, an SB3 model, a train.py
+directory, an RLlib module, or anything that already has ``predict``.
+
+:func:`as_policies` is what the scoring API (:func:`agents.submit.score`) calls on its argument;
+each element of a list is one training seed's policy.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+
+from agents.policies.scripted import Policy
+
+__all__ = ["CallablePolicy", "as_policy", "as_policies", "check_action_batch"]
+
+
+def check_action_batch(actions: Any, n: int, name: str) -> np.ndarray:
+    """``actions`` of ``n`` observations as float32 ``(n, 1)``; ValueError naming the policy if they
+    are not ``n`` finite numbers in the action space [-1, 1] (the env does not clip)."""
+    try:
+        a = np.asarray(actions, dtype=np.float32)
+    except (TypeError, ValueError):
+        raise ValueError(f"policy {name!r} returned {type(actions).__name__}, not numbers: it must return one "
+                         "action in [-1, 1] per observation") from None
+    if a.size != n:
+        raise ValueError(f"policy {name!r} returned {a.size} action(s) (shape {a.shape}) for {n} observation(s): it "
+                         f"must return one per observation, shape ({n}, 1) or ({n},)"
+                         + ("; for a function of one observation pass batched=False" if a.size == 1 else ""))
+    a = a.reshape(n, 1)
+    bad = np.flatnonzero(~np.isfinite(a[:, 0]) | (a[:, 0] < -1.0) | (a[:, 0] > 1.0))
+    if bad.size:
+        k = int(bad[0])
+        raise ValueError(f"policy {name!r} returned the action {float(a[k, 0])!r} for observation {k}: actions must be "
+                         "finite and in the action space [-1, 1] (the preload set-point, 300-2000 N mapped "
+                         "linearly); the env does not clip, so scale or clip it in your policy")
+    return a
+
+
+class CallablePolicy(Policy):
+    """A function of observations as a board policy. ``batched`` (default): ``fn(obs)`` takes the
+    batch ``(n, 15)`` float32 and returns ``n`` actions; else ``fn`` takes one observation ``(15,)``
+    and returns one action, and is called once per row. Deterministic and memoryless by
+    construction (``state`` is passed through)."""
+
+    def __init__(self, fn: Callable[[np.ndarray], Any], name: str = "submitted policy", batched: bool = True):
+        super().__init__()
+        if not callable(fn):
+            raise TypeError(f"a policy must be callable or have predict(); got {type(fn).__name__}")
+        self.fn, self.name, self.batched = fn, name, bool(batched)
+
+    def predict(self, obs, state=None, episode_start=None, deterministic=True):
+        o = np.asarray(obs, dtype=np.float32)
+        o = o[None, :] if o.ndim == 1 else o
+        if self.batched:
+            raw = self.fn(o)
+        else:
+            raw = [np.asarray(self.fn(row), dtype=np.float32).reshape(-1) for row in o]
+            if any(r.size != 1 for r in raw):
+                k = next(i for i, r in enumerate(raw) if r.size != 1)
+                raise ValueError(f"policy {self.name!r} (batched=False) returned {raw[k].size} numbers for one "
+                                 "observation: it must return one action")
+            raw = np.concatenate(raw)
+        return check_action_batch(raw, len(o), self.name), state
+
+
+class _CheckedPolicy(Policy):
+    """An object with ``predict`` whose actions are checked like a callable's."""
+
+    def __init__(self, inner: Any, name: str):
+        super().__init__()
+        self.inner, self.name = inner, name
+
+    def predict(self, obs, state=None, episode_start=None, deterministic=True):
+        act, state = self.inner.predict(obs, state=state, episode_start=episode_start, deterministic=deterministic)
+        return check_action_batch(act, len(np.atleast_2d(obs)), self.name), state
+
+
+def _is_sb3_model(obj: Any) -> bool:
+    return hasattr(obj, "policy") and hasattr(obj, "predict") and hasattr(obj, "get_vec_normalize_env")
+
+
+def as_policy(obj: Any, name: str = "submitted policy", batched: bool = True) -> Policy:
+    """One policy as the board runs it:
+
+    * a train.py run directory (``str`` or ``Path`` holding model.zip): loaded as the board loads
+      it, through the portable float64 path where it covers the architecture (the same actions
+      bit for bit on every CPU; no torch needed once ``portable_policy.npz`` is exported), else
+      through torch;
+    * an SB3 model (PPO, SAC, ...; torch): its deterministic actions, with the observation
+      normalisation of its VecNormalize env if it has one (a model loaded from a file has none:
+      pass its train.py directory instead, which keeps ``vec_normalize.pkl``);
+    * an object with ``predict(obs, state=None, episode_start=None, deterministic=True)`` (SB3's
+      interface: recurrent policies keep their state this way);
+    * a callable: :class:`CallablePolicy` (``batched``: a batch of observations at once, else one).
+    """
+    if isinstance(obj, (str, Path)):
+        from agents.evaluation.trained import load_trained
+        d = Path(obj)
+        if not (d / "model.zip").exists():
+            raise FileNotFoundError(f"{d}: no model.zip; a path names a train.py run directory (model.zip, "
+                                    "vec_normalize.pkl, config.json)")
+        try:
+            pol = load_trained(d, portable=True)
+        except ValueError:                     # an architecture the portable path does not cover
+            pol = load_trained(d)
+        pol.name = name
+        return pol
+    if _is_sb3_model(obj):
+        from agents.evaluation.trained import SB3Policy
+        venv = obj.get_vec_normalize_env()
+        if venv is not None:
+            return SB3Policy(obj, venv.obs_rms, venv.clip_obs, venv.epsilon, name=name)
+        return SB3Policy(obj, name=name)
+    if hasattr(obj, "predict"):
+        return _CheckedPolicy(obj, name)
+    return CallablePolicy(obj, name, batched)
+
+
+def as_policies(policy: Any, name: str = "submitted policy", batched: bool = True) -> list[Policy]:
+    """``policy`` as a list of board policies, one per training seed: a list or tuple gives one
+    each (at least one), anything else one (:func:`as_policy`)."""
+    items = list(policy) if isinstance(policy, (list, tuple)) else [policy]
+    if not items:
+        raise ValueError("no policy to score: pass a policy, or a list of them (one per training seed)")
+    return [as_policy(p, name if len(items) == 1 else f"{name} (run {k})", batched) for k, p in enumerate(items)]
