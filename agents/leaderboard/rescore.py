@@ -44,7 +44,9 @@ __all__ = ["rescore_tier", "rescore", "check_same_returns", "row_named", "main"]
 
 
 def row_named(rows: dict[str, Any], start: str, tier: str) -> tuple[str, dict[str, Any]]:
-    found = [(n, r) for n, r in rows.items() if n.startswith(start)]
+    """The one row of ``rows`` whose name starts with ``start``, submitted rows left out (their
+    names are the submitters')."""
+    found = [(n, r) for n, r in rows.items() if n.startswith(start) and r.get("kind") != "submitted"]
     if len(found) != 1:
         raise ValueError(f"tier {tier}: {len(found)} rows named {start!r}...; a board's results.json has one")
     return found[0]

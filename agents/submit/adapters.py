@@ -15,7 +15,7 @@ import numpy as np
 
 from agents.policies.scripted import Policy
 
-__all__ = ["CallablePolicy", "as_policy", "as_policies", "check_action_batch"]
+__all__ = ["CallablePolicy", "TimeAwarePolicy", "as_policy", "as_policies", "check_action_batch"]
 
 
 def check_action_batch(actions: Any, n: int, name: str) -> np.ndarray:
@@ -28,8 +28,8 @@ def check_action_batch(actions: Any, n: int, name: str) -> np.ndarray:
                          "action in [-1, 1] per observation") from None
     if a.size != n:
         raise ValueError(f"policy {name!r} returned {a.size} action(s) (shape {a.shape}) for {n} observation(s): it "
-                         f"must return one per observation, shape ({n}, 1) or ({n},)"
-                         + ("; for a function of one observation pass batched=False" if a.size == 1 else ""))
+                         f"must return one per observation, shape ({n}, 1) or ({n},); for a function of one "
+                         "observation pass batched=False")
     a = a.reshape(n, 1)
     bad = np.flatnonzero(~np.isfinite(a[:, 0]) | (a[:, 0] < -1.0) | (a[:, 0] > 1.0))
     if bad.size:
@@ -56,7 +56,11 @@ class CallablePolicy(Policy):
         o = np.asarray(obs, dtype=np.float32)
         o = o[None, :] if o.ndim == 1 else o
         if self.batched:
-            raw = self.fn(o)
+            try:
+                raw = self.fn(o)
+            except (IndexError, TypeError, ValueError) as err:
+                raise type(err)(f"policy {self.name!r} failed on a batch of observations of shape {o.shape} "
+                                f"({err}); if it is a function of one observation, pass batched=False") from err
         else:
             raw = [np.asarray(self.fn(row), dtype=np.float32).reshape(-1) for row in o]
             if any(r.size != 1 for r in raw):
@@ -79,6 +83,29 @@ class _CheckedPolicy(Policy):
         return check_action_batch(act, len(np.atleast_2d(obs)), self.name), state
 
 
+class TimeAwarePolicy(Policy):
+    """A policy trained with Gymnasium's ``TimeAwareObservation`` (time-to-go is allowed: the rules,
+    docs/benchmark.md) on the board: each observation gets the env steps taken in its episode
+    appended as the wrapper appends them (its default: the count, not normalised), counted from
+    the board's ``episode_start`` flags, then goes to ``inner`` (anything :func:`as_policy` takes)."""
+
+    def __init__(self, inner: Any, name: str = "submitted policy", batched: bool = True):
+        super().__init__()
+        self.inner, self.name = as_policy(inner, name, batched), name
+        self.steps: np.ndarray | None = None
+
+    def predict(self, obs, state=None, episode_start=None, deterministic=True):
+        o = np.atleast_2d(np.asarray(obs, dtype=np.float32))
+        if self.steps is None or len(self.steps) != len(o):
+            self.steps = np.zeros(len(o))
+        if episode_start is not None:
+            self.steps[np.asarray(episode_start, dtype=bool)] = 0
+        timed = np.concatenate([o, self.steps[:, None].astype(np.float32)], axis=1)
+        act, state = self.inner.predict(timed, state=state, episode_start=episode_start, deterministic=deterministic)
+        self.steps += 1
+        return act, state
+
+
 def _is_sb3_model(obj: Any) -> bool:
     return hasattr(obj, "policy") and hasattr(obj, "predict") and hasattr(obj, "get_vec_normalize_env")
 
@@ -93,6 +120,7 @@ def as_policy(obj: Any, name: str = "submitted policy", batched: bool = True) ->
     * an SB3 model (PPO, SAC, ...; torch): its deterministic actions, with the observation
       normalisation of its VecNormalize env if it has one (a model loaded from a file has none:
       pass its train.py directory instead, which keeps ``vec_normalize.pkl``);
+    * an RLlib Algorithm or RLModule (new API stack): :class:`agents.submit.rllib.RLlibPolicy`;
     * an object with ``predict(obs, state=None, episode_start=None, deterministic=True)`` (SB3's
       interface: recurrent policies keep their state this way);
     * a callable: :class:`CallablePolicy` (``batched``: a batch of observations at once, else one).
@@ -112,9 +140,12 @@ def as_policy(obj: Any, name: str = "submitted policy", batched: bool = True) ->
     if _is_sb3_model(obj):
         from agents.evaluation.trained import SB3Policy
         venv = obj.get_vec_normalize_env()
-        if venv is not None:
+        if venv is not None and venv.norm_obs:
             return SB3Policy(obj, venv.obs_rms, venv.clip_obs, venv.epsilon, name=name)
         return SB3Policy(obj, name=name)
+    if hasattr(obj, "forward_inference") or (hasattr(obj, "get_module") and not hasattr(obj, "predict")):
+        from agents.submit.rllib import RLlibPolicy
+        return RLlibPolicy(obj, name=name)
     if hasattr(obj, "predict"):
         return _CheckedPolicy(obj, name)
     return CallablePolicy(obj, name, batched)

@@ -80,7 +80,7 @@ class Scored:
         """The validation constant, hindsight constant and planner rows of the same episodes."""
         if self.variant == "constrained":
             from agents.submit.constrained import reference_rows
-            return reference_rows(self.references)
+            return reference_rows(self.references, bootstrap_reps=self.bootstrap_reps)
         r0, r1 = score_bounds(self.references)
         reps = dict(bootstrap_reps=self.bootstrap_reps, poi_reps=self.poi_reps)
         rows = {f"validation constant ({self.references.validation_preload_n:.0f} N)":
@@ -147,9 +147,10 @@ def score(policy: Any, tier: str = DEFAULT_TIER, *, name: str = "submitted polic
     contextual_res, results = ran[0], ran[1:]
     meta = {"n_runs": len(results)}
     if n < protocol_episodes:
-        meta["protocol_deviations"] = [f"{n} test episodes (the protocol: {protocol_episodes}): a board refuses it"]
+        meta["protocol_deviations"] = [f"{n} test episodes (the protocol: {protocol_episodes}): the protocol's board "
+                                       "refuses it"]
     if variant == "constrained":
-        row = constrained_row(results, COST_BUDGET_PER_EPISODE, **meta)
+        row = constrained_row(results, COST_BUDGET_PER_EPISODE, bootstrap_reps, **meta)
     else:
         row = submitted_row(results, contextual_res.returns, refs, bootstrap_reps, poi_reps, **meta)
     return Scored(tier, name, variant, row, results, contextual_res, refs, bootstrap_reps, poi_reps)

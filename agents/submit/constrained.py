@@ -54,7 +54,8 @@ def reference_rows(refs: StoredReferences, budget: float = COST_BUDGET_PER_EPISO
     """The references' constrained rows on their stored episodes: the constrained return is the
     sum of their heat, fatigue and actuation terms, the cost their quasi-periodic intervals
     (exact where an episode did not terminate; a terminated episode's termination term is the
-    benchmark reward's, larger than the constrained variant's, so those rows say how many)."""
+    benchmark reward's, larger than the constrained variant's: they are left out and the rows say
+    how many; a reference whose every episode terminated has no row)."""
     rows: dict[str, dict[str, Any]] = {}
     named = [(f"validation constant ({refs.validation_preload_n:.0f} N)", refs.validation_constant),
              (f"hindsight constant ({refs.hindsight_grid_step_n:g} N grid)", refs.hindsight)]
@@ -66,6 +67,8 @@ def reference_rows(refs: StoredReferences, budget: float = COST_BUDGET_PER_EPISO
         costs = np.rint(np.asarray(r.qp_fraction, dtype=np.float64) * refs.episode_steps)
         costs = np.where(terminated, np.nan, costs)
         keep = ~terminated
+        if not keep.any():                       # every episode terminated: nothing exact to show
+            continue
         row = _row(returns[keep][None, :], costs[keep][None, :], budget, bootstrap_reps)
         row.update(kind="reference", terminated_episodes_left_out=int(terminated.sum()))
         rows[name] = row

@@ -170,7 +170,7 @@ class BearingPreloadEnv(TaskParts, gym.Env):
     * ``start_bank``: ``"shipped"`` (the package's bank of the tier: ``transient``'s training seeds
       0-1023), the path of a bank (``python -m bearing_gym.envs.start_bank``) or a
       :class:`~bearing_gym.envs.start_bank.StartBank`: episodes draw its scenarios and start from
-      its settled states (a reset costs ~0.6 env steps instead of ~35). Refused if another kernel
+      its settled states (a reset costs ~0.5 env steps instead of ~36: ``benchmarks/bench_reset.py``). Refused if another kernel
       made it or it was made for another tier, horizon or env settings, and with ``scenario``.
       Off by default: its scenarios are training scenarios only.
     * ``render_dir``: with ``render_mode="human"``, also save every frame there as

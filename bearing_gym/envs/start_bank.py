@@ -218,6 +218,11 @@ def resolve(start_bank: Any, tier: str) -> StartBank:
     ``tier``: FileNotFoundError naming the tiers that have one if it has none), a path to a
     ``.npz``, or a :class:`StartBank`. Refused (ValueError) if another kernel made it."""
     if isinstance(start_bank, StartBank):
+        from .provenance import kernel_hash
+        if start_bank.kernel_hash != kernel_hash():
+            raise ValueError(f"the start bank was made by kernel {start_bank.kernel_hash}, not this one "
+                             f"({kernel_hash()}): its states would not be this kernel's settles; rebuild it with "
+                             f"`{rebuild_command(start_bank.tier, start_bank.seeds, start_bank.path or 'bank.npz')}`")
         return start_bank
     if start_bank == "shipped":
         path = shipped_path(tier)

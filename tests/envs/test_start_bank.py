@@ -146,4 +146,9 @@ def test_a_bank_that_does_not_fit_the_env_is_refused_saying_why(tmp_path, clean_
     np.savez_compressed(stale, meta=np.array(json.dumps(meta)), **arrays)
     with pytest.raises(ValueError, match="made by kernel 0123456789abcdef"):
         BearingPreloadEnv(start_bank=stale)
+    in_memory = SB.load(path, check_kernel=False)
+    import dataclasses
+    with pytest.raises(ValueError, match="made by kernel 0123456789abcdef"):
+        BearingPreloadEnv(start_bank=dataclasses.replace(in_memory, kernel_hash="0123456789abcdef"))
+    assert BearingPreloadEnv(start_bank=in_memory).scenario_dist.bank is in_memory      # this kernel's: taken
 

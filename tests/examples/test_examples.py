@@ -3,8 +3,7 @@ the shipped SAC's policy.
 
 Each example is run as a script (``python examples/<name>.py 2``: the first 2 test episodes of
 ``transient``) in a scratch directory; it must print its row beside the references and write its
-submission file, which the board's check accepts up to the episode count. Each is under 20 lines
-(docs/benchmark.md promises it).
+submission file for those episodes. Each is under 20 lines (docs/benchmark.md promises it).
 """
 
 import json

@@ -99,3 +99,54 @@ def test_fewer_episodes_than_the_protocol_are_marked(tmp_path):
     assert not api.protocol_sized and "2 test episodes" in api.row["protocol_deviations"][0]
     text = api.markdown()
     assert "**Not the protocol:**" in text and "| submitted policy |" in text and "validation constant (" in text
+
+
+def test_a_predict_object_is_checked_and_an_rllib_object_is_recognised():
+    from agents.submit.adapters import as_policy
+    from agents.submit.rllib import RLlibPolicy
+
+    class Wild:
+        def predict(self, obs, state=None, episode_start=None, deterministic=True):
+            return np.full((len(obs), 1), 2.0), state
+    with pytest.raises(ValueError, match="action 2.0"):
+        as_policy(Wild(), "wild").predict(np.zeros((2, 15), np.float32))
+
+    class Module:                                # RLlib's RLModule interface, duck-typed
+        def forward_inference(self, batch):
+            raise AssertionError("not run here")
+    class Algorithm:
+        def get_module(self):
+            return Module()
+    assert isinstance(as_policy(Module()), RLlibPolicy) and isinstance(as_policy(Algorithm()), RLlibPolicy)
+    with pytest.raises(TypeError, match="RLlib Algorithm or RLModule"):
+        RLlibPolicy(object())
+
+
+def test_an_sb3_model_uses_its_observation_normalisation_only_where_it_normalises():
+    pytest.importorskip("stable_baselines3", reason="an SB3 model needs the rl extra")
+    from stable_baselines3 import PPO
+    from stable_baselines3.common.vec_env import DummyVecEnv, VecNormalize
+
+    from agents.evaluation.trained import SB3Policy
+    from agents.submit.adapters import as_policy
+    from bearing_gym.envs import BearingPreloadEnv
+    for norm_obs in (True, False):
+        venv = VecNormalize(DummyVecEnv([lambda: BearingPreloadEnv(tier="paper")]), norm_obs=norm_obs)
+        pol = as_policy(PPO("MlpPolicy", venv, n_steps=8, batch_size=8, seed=0))
+        assert isinstance(pol, SB3Policy) and (pol.obs_rms is not None) == norm_obs
+
+
+def test_a_time_aware_policy_sees_the_steps_of_its_episode():
+    from agents.submit.adapters import TimeAwarePolicy
+    seen = []
+    pol = TimeAwarePolicy(lambda o: (seen.append(o[:, -1].copy()), np.zeros(len(o)))[1])
+    obs = np.zeros((2, 15), np.float32)
+    pol.predict(obs, episode_start=np.array([True, True]))
+    pol.predict(obs, episode_start=np.array([False, False]))
+    pol.predict(obs, episode_start=np.array([False, True]))
+    assert [list(x) for x in seen] == [[0, 0], [1, 1], [2, 0]]
+
+
+def test_a_single_observation_function_without_batched_false_is_told_so():
+    with pytest.raises(IndexError, match="batched=False"):
+        as_policies(lambda o: o[10] * 0.0)[0].predict(np.zeros((1, 15), np.float32))

@@ -55,6 +55,7 @@ def test_a_submission_joins_the_board_as_a_submitted_row_with_the_scored_numbers
 @pytest.mark.parametrize("change,match", [
     (lambda s: s.update(kernel_hash="0123456789abcdef"), "made by kernel 0123456789abcdef"),
     (lambda s: s.update(protocol_version=0), "protocol version 0"),
+    (lambda s: s.update(protocol_version=None), "protocol version None"),
     (lambda s: s.update(test_seeds=[300001, 300003]), "test seeds"),
     (lambda s: s.update(episodes=2, test_seeds=[300000, 300001]), "test seeds"),
     (lambda s: s.update(tier="field"), "tier 'field'"),
@@ -98,3 +99,64 @@ def test_the_submission_names_one_training_seed_per_run(board_and_submission):
         scored.submission("rule", training_seeds=[1, 2])
     with pytest.raises(ValueError, match="algorithm must name"):
         scored.submission(" ")
+
+
+def test_check_runs_what_add_runs_and_a_board_whose_rows_are_not_the_stores_refuses(board_and_submission, tmp_path):
+    board_path, sub_path, _ = board_and_submission
+    board = json.loads(board_path.read_text())
+    name = next(n for n in board["tiers"][TIER]["policies"] if n.startswith("validation constant"))
+    board["tiers"][TIER]["policies"][name]["episode_returns"][0][0] += 1.0
+    other = tmp_path / "results.json"
+    other.write_text(json.dumps(board))
+    assert submit_main(["check", str(sub_path), "--board", str(other)]) == 2
+    with pytest.raises(ValueError, match="does not hold the stored references' returns"):
+        add_submission(load_submission(sub_path), board)
+
+
+@pytest.mark.parametrize("change,match", [
+    (lambda s: s.pop("name"), "'name' must be a str"),
+    (lambda s: s["runs"][0].pop("terms"), "reward terms"),
+    (lambda s: s["runs"][0]["returns"].__setitem__(0, float("nan")), "finite numbers"),
+    (lambda s: s["runs"].__setitem__(0, 3), "not an object"),
+    (lambda s: s["runs"][0].update(terminated=[1, 0, 0]), "booleans"),
+])
+def test_a_malformed_submission_is_refused_naming_the_field(board_and_submission, tmp_path, change, match):
+    _, sub_path, _ = board_and_submission
+    sub = json.loads(sub_path.read_text())
+    change(sub)
+    bad = tmp_path / "bad.json"
+    bad.write_text(json.dumps(sub))
+    with pytest.raises(SubmissionRefused, match=match):
+        load_submission(bad)
+
+
+def test_a_submission_keeps_its_file_beside_the_board_and_a_rebuilt_board_adds_it_again(board_and_submission,
+                                                                                          tmp_path):
+    from agents.submit.submission import readd_stored, stored_path
+    board_path, sub_path, scored = board_and_submission
+    board = tmp_path / "results.json"
+    board.write_text(board_path.read_text())
+    assert submit_main(["add", str(sub_path), "--board", str(board)]) == 0
+    kept = stored_path(board, load_submission(sub_path))
+    assert kept.exists() and kept.parent == tmp_path / "submissions"
+    rebuilt = json.loads(board_path.read_text())                     # the board as built, without the row
+    assert "qp rule (submitted)" not in rebuilt["tiers"][TIER]["policies"]
+    lines = readd_stored(rebuilt, board)
+    assert lines == [f"{kept.name}: row 'qp rule (submitted)' on {TIER}"]
+    row = rebuilt["tiers"][TIER]["policies"]["qp rule (submitted)"]
+    assert row["episode_returns"] == scored.row["episode_returns"]
+    assert any("training seed" in n for n in row["submission_notes"])              # 1 seed: the rules ask for 3
+    from agents.leaderboard.tables import to_markdown
+    assert "Submitted rows" in to_markdown(rebuilt)
+
+
+def test_a_submitted_name_never_takes_a_reference_row(board_and_submission):
+    from agents.leaderboard.rescore import row_named
+    board_path, sub_path, _ = board_and_submission
+    board = json.loads(board_path.read_text())
+    sub = load_submission(sub_path)
+    sub["name"] = "validation constant twin"
+    add_submission(sub, board)
+    rows = board["tiers"][TIER]["policies"]
+    name, row = row_named(rows, "validation constant", TIER)            # still the reference row
+    assert row["kind"] == "reference" and "validation constant twin (submitted)" in rows
