@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 from agents.leaderboard import board as leaderboard
-from agents.leaderboard.results_file import header, write
+from agents.leaderboard.results_file import header, table_path, write
 from agents.leaderboard.settings import FULL
 from agents.submit import SubmissionRefused, add_submission, check_submission, load_submission, score
 from agents.submit.__main__ import main as submit_main
@@ -35,8 +35,10 @@ def board_and_submission(tmp_path_factory):
     return board_path, sub_path, scored
 
 
-def test_a_submission_joins_the_board_as_a_submitted_row_with_the_scored_numbers(board_and_submission):
-    board_path, sub_path, scored = board_and_submission
+def test_a_submission_joins_the_board_as_a_submitted_row_with_the_scored_numbers(board_and_submission, tmp_path):
+    pristine, sub_path, scored = board_and_submission
+    board_path = tmp_path / "results.json"                 # a copy: the fixture's board stays without the row
+    board_path.write_text(pristine.read_text())
     board = json.loads(board_path.read_text())
     sub = load_submission(sub_path)
     assert sub["training_seeds"] == [7] and sub["library"] == "numpy" and sub["tier"] == TIER
@@ -47,7 +49,7 @@ def test_a_submission_joins_the_board_as_a_submitted_row_with_the_scored_numbers
         assert row[key] == scored.row[key], key
     # through the command: the table gets the row too
     assert submit_main(["add", str(sub_path), "--board", str(board_path)]) == 0
-    assert "| qp rule (submitted) |" in board_path.with_suffix(".md").read_text()
+    assert "| qp rule (submitted) |" in table_path(board_path).read_text()
     assert submit_main(["add", str(sub_path), "--board", str(board_path)]) == 2          # the name is taken
     assert submit_main(["add", str(sub_path), "--board", str(board_path), "--replace"]) == 0
 
