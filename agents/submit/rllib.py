@@ -22,7 +22,7 @@ from typing import Any
 import numpy as np
 
 from agents.policies.scripted import Policy
-from agents.submit.adapters import check_action_batch
+from agents.submit.actions import check_action_batch
 
 __all__ = ["RLlibPolicy"]
 
