@@ -17,7 +17,7 @@ last_model.zip and last_vec_normalize.pkl (the final weights), and leaderboard.m
 (--select best, the default) or the final weights (--select last).
 
 Training's settled starts come from the start bank shipped for the tier if there is one
-(agents/data/start_bank_<tier>.npz, --start-bank auto): each reset then copies a settled state
+(bearing_gym/data/start_bank_<tier>.npz, --start-bank auto): each reset then copies a settled state
 (the same bits as settling it) instead of simulating 1.46 s, and training draws the bank's
 scenarios, each once before any repeats (a run of the budget meets none twice; --resume keeps the
 bank and continues its order). --start-bank none draws every start afresh and settles it, as the
@@ -40,9 +40,13 @@ import sys
 import time
 from pathlib import Path
 
-from agents.paths import start_bank_path
-from agents.protocol import STEP_BUDGET_PER_RUN, TEST, VALIDATION, VALIDATION_EPISODES_IN_TRAINING, VALIDATION_EVERY_STEPS
-from bearing_gym.task import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
+from agents.extras import require_extra
+
+require_extra("train.py")        # the rl extra: SB3, sb3-contrib, torch (before any of them is imported)
+
+from agents.paths import start_bank_path  # noqa: E402
+from agents.protocol import STEP_BUDGET_PER_RUN, TEST, VALIDATION, VALIDATION_EPISODES_IN_TRAINING, VALIDATION_EVERY_STEPS  # noqa: E402
+from bearing_gym.task import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES  # noqa: E402
 
 PROGRESS_EVERY_S = 30.0     # at most one progress line per this many seconds
 ALGOS = ("ppo", "sac", "ppo_lstm")
@@ -80,7 +84,7 @@ def build_parser() -> argparse.ArgumentParser:
     ap.add_argument("--resume", action="store_true", help="continue from the newest checkpoint in --out")
     ap.add_argument("--start-bank", metavar="NPZ|auto|none",
                     help="where training's settled starts come from. auto (default): the start bank shipped for "
-                         "the tier (agents/data/start_bank_<tier>.npz) if there is one and this kernel made it, "
+                         "the tier (bearing_gym/data/start_bank_<tier>.npz) if there is one and this kernel made it, "
                          "else every start is settled; NPZ: that bank (python -m bearing_gym.envs.start_bank), "
                          "refused if it does not fit; none: settle every start. With a bank, training draws the "
                          "bank's scenarios (each once before any repeats) and each reset copies its settled start "
@@ -102,27 +106,19 @@ def hyperparams(algo: str) -> dict:
 
 def load_start_bank(path: str | Path, tier: str, episode_steps: int):
     """The start bank at ``path`` if it fits a run on ``tier`` with ``episode_steps``-step
-    episodes and the env's default physics and timing; ValueError saying why not."""
+    episodes and the env's default physics and timing; ValueError saying why not
+    (:func:`bearing_gym.envs.start_bank.check_fits`)."""
     from bearing_gym.envs import BearingPreloadVectorEnv
     from bearing_gym.envs import start_bank as banks
     try:
         bank = banks.load(path)
     except OSError as err:
         raise ValueError(str(err)) from None
-    if bank.tier != tier:
-        raise ValueError(f"{path} holds tier {bank.tier!r} starts, this run trains on {tier!r}")
-    bank_steps = bank.env_kwargs.get("episode_steps", EPISODE_STEPS)
-    if bank_steps != episode_steps:
-        raise ValueError(f"{path} holds scenarios of {bank_steps}-step episodes, this run's have {episode_steps}")
     probe = BearingPreloadVectorEnv(num_envs=1, tier=tier, episode_steps=episode_steps, max_episode_steps=None)
-    probe.batch.load(0, bank.scenarios[0])
-    fits = probe.batch.settle_digest(0) == bank.digests[0]
-    probe.close()
-    if not fits:                          # the bank must hold this env's settles, or it saves nothing
-        raise ValueError(f"{path} was built for other env settings (physics, actuator or control interval) than "
-                         f"this run's: its starts would never be used; rebuild it: "
-                         f"{banks.rebuild_command(bank.tier, bank.seeds, path)}")
-    return bank
+    try:
+        return banks.check_fits(bank, tier, episode_steps, probe.batch)
+    finally:
+        probe.close()
 
 
 def choose_start_bank(option: str | None, tier: str, episode_steps: int):

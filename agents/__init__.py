@@ -1,5 +1,9 @@
-"""Preload controllers for BearingPreload-v0 and the leaderboard that compares them (the ``rl`` extra:
-``pip install "bearing-gym[rl]"``).
+"""Preload controllers for BearingPreload-v0 and the leaderboard that compares them.
+
+Scoring a policy (:mod:`agents.submit`) and the scripted baselines need only the ``score`` extra
+(``pip install "bearing-gym[score]"``: rliable's statistics, no torch); training, torch inference
+and train.py the ``rl`` extra (``pip install "bearing-gym[rl]"``): :func:`require_extra` says which
+is missing where it is needed.
 
 Grouped by job, each subpackage importing only those above it in this list (tests/test_architecture.py):
 
@@ -21,20 +25,10 @@ deterministic=True) -> (actions, state)`` on batched observations, so one evalua
 (:mod:`agents.evaluation.episodes`) runs scripted and learned controllers alike.
 """
 
-from importlib.util import find_spec as _find_spec
+from agents.extras import RL_EXTRA, SCORE_EXTRA, require_extra
 
-#: import name -> distribution of what the ``rl`` extra installs and agents needs
-RL_EXTRA = {"stable_baselines3": "stable-baselines3", "sb3_contrib": "sb3-contrib", "torch": "torch",
-            "rliable": "rliable", "yaml": "pyyaml"}
-
-_missing = [dist for mod, dist in RL_EXTRA.items() if _find_spec(mod) is None]
-if _missing:
-    raise ImportError(f"agents needs the 'rl' extra, which is not installed here (missing: {', '.join(_missing)}): "
-                      "pip install \"bearing-gym[rl]\" (with the CPU build of torch first, as the README's set-up "
-                      "shows). The environment itself (import bearing_gym; gymnasium.make(\"BearingPreload-v0\")) "
-                      "needs none of it.")
-
-__all__ = ["Policy", "ConstantPreload", "SpeedScheduledPreload", "FeedbackRule", "OraclePreload", "RL_EXTRA"]
+__all__ = ["Policy", "ConstantPreload", "SpeedScheduledPreload", "FeedbackRule", "OraclePreload", "RL_EXTRA",
+           "SCORE_EXTRA", "require_extra"]
 
 
 def __getattr__(name):  # lazy, so `python -m agents.<module>` imports nothing twice

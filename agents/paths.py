@@ -55,5 +55,7 @@ def docs_dir() -> Path:
 
 
 def start_bank_path(tier: str) -> Path:
-    """The start bank shipped for ``tier`` (``train.py``'s default; it may not exist)."""
-    return DATA_DIR / f"start_bank_{tier}.npz"
+    """The start bank shipped for ``tier`` (``train.py``'s default and the envs'
+    ``start_bank="shipped"``; it may not exist): in the env's package, bearing_gym/data/."""
+    from bearing_gym.envs.start_bank import shipped_path
+    return shipped_path(tier)

@@ -29,7 +29,7 @@ import math
 from typing import Any
 
 
-__all__ = ["TRAIN", "VALIDATION", "TIER_DESIGN", "TEST", "RETIRED", "RANGES", "check_disjoint",
+__all__ = ["PROTOCOL_VERSION", "TRAIN", "VALIDATION", "TIER_DESIGN", "TEST", "RETIRED", "RANGES", "check_disjoint",
            "range_of", "TEST_EPISODES", "VALIDATION_CONSTANT_EPISODES",
            "CONTEXTUAL_FIT_EPISODES", "CONTEXTUAL_FIT_SEED", "HINDSIGHT_GRID_STEP_N",
            "VALIDATION_GRID_STEP_N", "CONTEXTUAL_GRID_STEP_N", "ALGORITHMS", "HEADLINE_ALGORITHM",
@@ -37,6 +37,10 @@ __all__ = ["TRAIN", "VALIDATION", "TIER_DESIGN", "TEST", "RETIRED", "RANGES", "c
            "STEP_BUDGET_CHOSEN_FROM_THROUGHPUT", "VALIDATION_EPISODES_IN_TRAINING", "VALIDATION_EVERY_STEPS",
            "training_seeds", "held_out_seeds", "validation_seeds", "episodes_for_tier",
            "preload_grid", "check_protocol"]
+
+#: The protocol's version: a submission (:mod:`agents.submit`) made under another is refused by the
+#: board. 1: the protocol these constants define (100k env steps, hand-set hyperparameters).
+PROTOCOL_VERSION = 1
 
 TRAIN = range(0, 50_000)
 VALIDATION = range(50_000, 60_000)

@@ -19,9 +19,14 @@ them), on one env and one numba thread:
 ``step_s``
     mean wall time of the env steps of those episodes (``--steps`` after each banked reset,
     action 0);
-``reset_{settled,banked}_env_steps``
-    the two reset times divided by ``step_s``: a reset's price in env steps (issue target for
-    the banked one: at most 3).
+``reset_shipped_s``
+    median wall time of ``reset(seed=s)`` of ``gymnasium.make("BearingPreload-v0",
+    start_bank="shipped")`` (the package's bank of the tier, its scenarios drawn uniformly; the
+    seeds of the settled resets, none of whose scenarios this process has settled), if the tier
+    ships a bank;
+``reset_{settled,banked,shipped}_env_steps``
+    the reset times divided by ``step_s``: a reset's price in env steps (issue target for
+    the banked ones: at most 3).
 
 The seeds are training seeds (``agents.protocol.TRAIN``: 40,000 onwards is the contextual fit's,
 so this uses 30,000 + k), the tier's own scenario distribution.
@@ -84,12 +89,23 @@ def measure(tier: str, resets: int, steps: int) -> dict:
             env.step(a)
         step_times.append((time.perf_counter() - t0) / steps)
     step_s = statistics.fmean(step_times)
+    shipped = {}
+    if start_bank.shipped_path(tier).exists():
+        import gymnasium as gym
+        made = gym.make("BearingPreload-v0", tier=tier, start_bank="shipped")
+        times = []
+        for s in seeds:
+            t0 = time.perf_counter()
+            made.reset(seed=s + resets)
+            times.append(time.perf_counter() - t0)
+        shipped = {"reset_shipped_s": statistics.median(times),
+                   "reset_shipped_env_steps": statistics.median(times) / step_s}
     return {"tier": tier, "resets": resets, "steps_per_episode": steps,
             "reset_settled_s": statistics.median(settled), "reset_banked_s": statistics.median(banked),
             "banked_resets_from_the_bank": hits,
             "step_s": step_s,
             "reset_settled_env_steps": statistics.median(settled) / step_s,
-            "reset_banked_env_steps": statistics.median(banked) / step_s}
+            "reset_banked_env_steps": statistics.median(banked) / step_s, **shipped}
 
 
 def print_table(res: dict) -> None:

@@ -39,11 +39,12 @@ LAYERS = (
 )
 OUTSIDE = ("agents", "train", "benchmarks")
 AGENT_LAYERS = (
-    ("base", ("agents.paths", "agents.protocol")),
+    ("base", ("agents.paths", "agents.protocol", "agents.extras")),
     ("policies", ("agents.policies",)),
     ("evaluation", ("agents.evaluation",)),
     ("references", ("agents.references",)),
     ("leaderboard", ("agents.leaderboard", "agents.evaluate")),
+    ("submit", ("agents.submit",)),
     ("training", ("agents.training",)),
     ("regenerate", ("agents.regenerate",)),
     ("api", ("agents",)),

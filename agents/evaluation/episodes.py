@@ -4,8 +4,8 @@
 ``seed + i``, so every policy meets the same ones) and returns one
 :class:`agents.evaluation.result.EvalResult` per policy: every episode's return, each reward
 term, the fraction of control intervals spent quasi-periodic (index > QPI_THRESHOLD = 0.1), the
-mean preload and the episodes that terminated early. :func:`constant_sweep` runs a grid of
-constant preloads the same way, :func:`hindsight_constant` picks the best of them per episode.
+mean preload, the episodes that terminated early and the safe-RL cost (the sum of ``info["cost"]``).
+:func:`constant_sweep` runs a grid of constant preloads the same way, :func:`hindsight_constant` picks the best of them per episode.
 """
 
 from __future__ import annotations
@@ -79,6 +79,7 @@ def run_policies(policies: list[Policy], episodes: int, seed: int, episode_steps
     qp = np.zeros(n)
     preload_sum = np.zeros(n)
     vibration_sum = np.zeros(n)
+    cost = np.zeros(n)
     steps = np.zeros(n)
     states: list[Any] = [None] * n_pol
     starts = np.ones(episodes, dtype=bool)
@@ -104,6 +105,7 @@ def run_policies(policies: list[Policy], episodes: int, seed: int, episode_steps
         qp[alive] += info["quasi_periodic"][alive]
         preload_sum[alive] += info["preload_n"][alive]
         vibration_sum[alive] += info["nonsync_rms_um"][alive]
+        cost[alive] += info["cost"][alive]
         steps[alive] += 1
         for p in range(n_pol):
             b = p * episodes
@@ -127,7 +129,8 @@ def run_policies(policies: list[Policy], episodes: int, seed: int, episode_steps
                               qp[sl] / np.maximum(steps[sl], 1), preload_sum[sl] / np.maximum(steps[sl], 1),
                               {k: np.array(v) for k, v in traces[p].items()},
                               terminated=terminated[sl].copy(), scenario=first_scenarios[p],
-                              first_obs=first_obs[sl], vibration_um=vibration_sum[sl] / np.maximum(steps[sl], 1)))
+                              first_obs=first_obs[sl], vibration_um=vibration_sum[sl] / np.maximum(steps[sl], 1),
+                              cost=cost[sl].copy()))
     return out
 
 

@@ -31,6 +31,7 @@ class EvalResult:
     trace_label: str = ""                   # what the trace is, if not the policy itself
     first_obs: np.ndarray | None = None     # per episode: the observation after reset
     vibration_um: np.ndarray | None = None  # per episode: mean non-synchronous RMS amplitude (um)
+    cost: np.ndarray | None = None          # per episode: the sum of info["cost"] (quasi-periodic intervals)
 
     @property
     def terminated_count(self) -> int:
@@ -51,7 +52,7 @@ class EvalResult:
         return dataclasses.replace(self, returns=cut(self.returns), terms={k: cut(v) for k, v in self.terms.items()},
                                    qp_fraction=cut(self.qp_fraction), mean_preload=cut(self.mean_preload),
                                    terminated=cut(self.terminated), first_obs=cut(self.first_obs),
-                                   vibration_um=cut(self.vibration_um))
+                                   vibration_um=cut(self.vibration_um), cost=cut(self.cost))
 
     @staticmethod
     def concat(parts: "list[EvalResult]") -> "EvalResult":
@@ -73,7 +74,7 @@ class EvalResult:
                                    terms={k: join(lambda p, k=k: p.terms[k]) for k in parts[0].terms},
                                    qp_fraction=join(lambda p: p.qp_fraction), mean_preload=join(lambda p: p.mean_preload),
                                    terminated=terminated, first_obs=join(lambda p: p.first_obs),
-                                   vibration_um=join(lambda p: p.vibration_um))
+                                   vibration_um=join(lambda p: p.vibration_um), cost=join(lambda p: p.cost))
 
     def ci95(self) -> tuple[float, float]:
         from scipy import stats

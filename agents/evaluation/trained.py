@@ -73,6 +73,8 @@ def load_trained(model_dir: str | Path, algo: str | None = None, portable: bool 
     import importlib
     import pickle
 
+    from agents.extras import require_extra
+    require_extra("loading an SB3 model through torch (portable=False, or an architecture the portable path does not cover)")
     model_dir = Path(model_dir)
     cfg_path = model_dir / "config.json"
     cfg = json.loads(cfg_path.read_text()) if cfg_path.exists() else {}

@@ -376,6 +376,10 @@ def main(argv: list[str] | None = None) -> dict[str, Any]:
     text = write(results, out, kept)
     print(text)
     print(f"wrote {out} and {table_path(out)} ({results['wall_s'] / 60:.1f} min)")
+    stored = sorted((out.parent / "submissions").glob("*.json"))
+    if stored:           # agents.submit keeps them there; the board does not import it (a higher layer)
+        print(f"{len(stored)} submission(s) kept beside {out} are not on this rebuilt board: "
+              f"`python -m agents.submit readd --board {out}` adds those it still takes")
     return results
 
 

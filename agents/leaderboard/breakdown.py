@@ -52,7 +52,8 @@ def episode_features(tier: str, seeds: list[int], episode_steps: int) -> dict[st
 
 
 def _row(policies: dict[str, Any], name: str) -> tuple[str, dict[str, Any]]:
-    hits = [k for k in policies if k == name] or [k for k in policies if k.startswith(name)]
+    hits = [k for k in policies if k == name] or [k for k, r in policies.items()
+                                                   if k.startswith(name) and r.get("kind") != "submitted"]
     if len(hits) != 1:
         raise KeyError(f"row {name!r}: {'no row' if not hits else 'several rows'} starts so; "
                        f"the rows: {', '.join(policies)}")

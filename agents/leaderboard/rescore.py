@@ -40,17 +40,19 @@ from agents.leaderboard.upper import (PLANNER_ROW, is_upper_deviation, planner_r
 from agents.paths import DATA_DIR, require_checkout
 from agents.references.store import StoredReferences, load_references
 
-__all__ = ["rescore_tier", "rescore", "main"]
+__all__ = ["rescore_tier", "rescore", "check_same_returns", "row_named", "main"]
 
 
-def _row_named(rows: dict[str, Any], start: str, tier: str) -> tuple[str, dict[str, Any]]:
-    found = [(n, r) for n, r in rows.items() if n.startswith(start)]
+def row_named(rows: dict[str, Any], start: str, tier: str) -> tuple[str, dict[str, Any]]:
+    """The one row of ``rows`` whose name starts with ``start``, submitted rows left out (their
+    names are the submitters')."""
+    found = [(n, r) for n, r in rows.items() if n.startswith(start) and r.get("kind") != "submitted"]
     if len(found) != 1:
         raise ValueError(f"tier {tier}: {len(found)} rows named {start!r}...; a board's results.json has one")
     return found[0]
 
 
-def _check_same_returns(tier: str, name: str, row: dict[str, Any], stored: np.ndarray) -> None:
+def check_same_returns(tier: str, name: str, row: dict[str, Any], stored: np.ndarray) -> None:
     written = np.asarray(row["episode_returns"], dtype=np.float64)
     if written.shape != (1, stored.size) or not np.array_equal(written[0], stored):
         raise ValueError(f"tier {tier}: the row {name!r} of results.json does not hold the stored references' returns "
@@ -79,8 +81,8 @@ def rescore_tier(tier: str, t: dict[str, Any], refs: StoredReferences, bootstrap
                          f"{refs.episode_steps} steps, the board's for {t['seeds'][0]}..{t['seeds'][1]} of "
                          f"{t['episode_steps']}")
     rows = t["policies"]
-    _check_same_returns(tier, *_row_named(rows, "validation constant", tier), refs.validation_constant.returns)
-    _check_same_returns(tier, *_row_named(rows, "hindsight constant", tier), refs.hindsight.returns)
+    check_same_returns(tier, *row_named(rows, "validation constant", tier), refs.validation_constant.returns)
+    check_same_returns(tier, *row_named(rows, "hindsight constant", tier), refs.hindsight.returns)
     r0, r1 = score_bounds(refs)
     scored = []
     for name, row in rows.items():

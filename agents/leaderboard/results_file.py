@@ -26,7 +26,7 @@ __all__ = ["protocol_summary", "header", "default_out", "kept_tiers", "table_pat
 def protocol_summary() -> dict[str, Any]:
     """The frozen protocol (:mod:`agents.protocol`) as results.json records it."""
     from agents.policies.planner import PlannerSettings
-    return {"test_episodes": P.TEST_EPISODES,
+    return {"version": P.PROTOCOL_VERSION, "test_episodes": P.TEST_EPISODES,
             "upper_reference": {"planner": PlannerSettings().as_dict(), "episodes": "every test episode"},
             "validation_constant_episodes": P.VALIDATION_CONSTANT_EPISODES,
             "contextual_fit_episodes": P.CONTEXTUAL_FIT_EPISODES, "headline_algorithm": P.HEADLINE_ALGORITHM,

@@ -48,7 +48,7 @@ import numpy as np
 
 
 __all__ = ["DENOMINATOR_FLOOR", "upper_reference", "normalised_scores", "floored_episodes", "iqm",
-           "iqm_interval", "seed_interval", "probability_of_improvement", "BOOTSTRAP_REPS", "POI_REPS"]
+           "iqm_interval", "mean_interval", "seed_interval", "probability_of_improvement", "BOOTSTRAP_REPS", "POI_REPS"]
 
 #: Reward units: the smallest cost of one quasi-periodic interval (module docstring: the reason).
 DENOMINATOR_FLOOR = 1.0
@@ -143,6 +143,18 @@ def iqm_interval(scores: np.ndarray, reps: int = BOOTSTRAP_REPS, seed: int = BOO
     """(IQM, 95 % low, high): stratified bootstrap over seeds and episodes (a bootstrap over
     episodes for a single run)."""
     return _interval(scores, True, reps, seed)
+
+
+def mean_interval(values: np.ndarray, reps: int = BOOTSTRAP_REPS, seed: int = BOOTSTRAP_SEED) -> tuple[float, float, float]:
+    """(mean, 95 % low, high) of a (runs, episodes) array with the same stratified bootstrap as
+    :func:`iqm_interval` (seeds and episodes redrawn): for raw quantities such as the constrained
+    variant's return and cost, where the IQM of a normalised score does not apply."""
+    library, _ = _rliable()
+    s = _as_runs_by_tasks(values)
+    with _global_seed(seed):
+        point, ci = library.get_interval_estimates({"x": s}, lambda x: np.array([np.mean(x)]), reps=reps,
+                                                   task_bootstrap=True)
+    return float(point["x"][0]), float(ci["x"][0][0]), float(ci["x"][1][0])
 
 
 def seed_interval(scores: np.ndarray, reps: int = BOOTSTRAP_REPS, seed: int = BOOTSTRAP_SEED) -> tuple[float, float, float]:

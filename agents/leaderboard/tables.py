@@ -134,6 +134,18 @@ def to_markdown(results: dict[str, Any]) -> str:
                          f"| {_fmt(r['vibration_amplitude_um'])} | {r['heat_cost']:.2f} | {r['fatigue_cost']:.2f} "
                          f"| {r['terminated_episodes']} |")
         lines.append("")
+        submitted = [(name, r) for name, r in t["policies"].items() if r["kind"] == "submitted"]
+        if submitted:
+            lines += ["Submitted rows (python -m agents.submit; scored by the board from their per-episode returns): "
+                      "algorithm, env steps of training, training seeds, library, code; what they leave out of "
+                      "the rules' report.", ""]
+            lines += [f"- {name}: {r.get('algorithm') or '-'}; "
+                      f"{'-' if r.get('training_steps') is None else format(r['training_steps'], ',')} steps; "
+                      f"seeds {r.get('training_seeds') or '-'}; {r.get('library') or '-'} {r.get('library_version') or ''}"
+                      f"; {r.get('code') or '-'}"
+                      + (f" (**{'; '.join(r['submission_notes'])}**)" if r.get("submission_notes") else "")
+                      for name, r in submitted]
+            lines.append("")
         learned = [(name, r) for name, r in t["policies"].items() if r["kind"] == "learned"]
         if learned:
             lines += ["Learned rows: training seed, selected checkpoint (env steps), training wall time.", ""]

@@ -22,10 +22,13 @@ from agents.paths import PACKAGE_DIR
 
 __all__ = ["reward_map", "stability_table", "start_bank", "validation_constant", "commit_validation",
            "contextual_fit", "planner_episode", "board_tier", "commit_board_tier", "chaos_replica", "chaos_summary",
-           "commit_tier_gap", "evaluation_traces", "command", "CHECKOUT"]
+           "commit_tier_gap", "evaluation_traces", "command", "examples", "example_files", "board_digest", "EXAMPLES",
+           "CHECKOUT"]
 
 #: where the hand-run scripts are (tests/data/make_golden.py, benchmarks/)
 CHECKOUT = PACKAGE_DIR.parent
+#: the open board's worked examples (examples/<name>.py writes runs/submissions/<name>.json)
+EXAMPLES = ("numpy_rule", "cleanrl_actor")
 
 
 def reward_map(csv_path: Path, grid: dict[str, Any]) -> None:
@@ -88,9 +91,12 @@ def board_tier(tier: str, settings, model_dirs: tuple[str, ...], store: Path, da
                           oracle_table=oracle_table)
 
 
-def commit_board_tier(out: Path, mode: str, command: str, reps: tuple[int, int], payload: tuple[str, dict]) -> None:
+def commit_board_tier(out: Path, mode: str, command: str, reps: tuple[int, int], payload: tuple[str, dict],
+                      data_dir: Path | None = None) -> None:
     """Put one tier into results.json (and its table), keeping the tiers of the same kernel,
-    protocol and statistics written before (``--keep-other-tiers``); ``command``'s TIER is the tier."""
+    protocol and statistics written before (``--keep-other-tiers``); ``command``'s TIER is the tier.
+    The submissions kept beside ``out`` for that tier are added again (scored against the
+    references in ``data_dir``, default agents/data)."""
     from agents.leaderboard.results_file import header, kept_tiers, write
     tier, result = payload
     command = command.replace("TIER", tier)
@@ -102,7 +108,23 @@ def commit_board_tier(out: Path, mode: str, command: str, reps: tuple[int, int],
         except ValueError:                 # another kernel's or protocol's board: start afresh
             kept = {}
     results["tiers"][tier] = {**result, "command": command}
+    from agents.submit.submission import readd_stored
+    for line in readd_stored(results, out, [tier], **({} if data_dir is None else {"references_dir": data_dir})):
+        print(f"board {tier}: submission {line}", flush=True)
     write(results, out, kept)
+
+
+def board_digest(out: Path) -> str | None:
+    """The board's digest without its submitted rows: ``python -m agents.submit add`` puts rows
+    on the board that a rebuild adds again (from the files kept beside it), so they do not make
+    the board stale."""
+    import hashlib
+    if not out.exists():
+        return None
+    results = json.loads(out.read_text())
+    for t in results.get("tiers", {}).values():
+        t["policies"] = {k: v for k, v in t.get("policies", {}).items() if v.get("kind") != "submitted"}
+    return hashlib.sha256(json.dumps(results, sort_keys=True).encode()).hexdigest()[:16]
 
 
 def chaos_replica(tier: str, episodes: int, episode_steps: int, replica: int, out: Path, store: Path,
@@ -157,3 +179,31 @@ def command(argv: list[str]) -> None:
            "PYTHONPATH": os.pathsep.join(filter(None, [str(CHECKOUT), os.environ.get("PYTHONPATH")]))}
     print("running: " + " ".join(argv), flush=True)
     subprocess.run([sys.executable, *argv], cwd=CHECKOUT, env=env, check=True)
+
+
+def examples(board: Path, tier: str = "transient") -> None:
+    """Run the worked examples (``python examples/<name>.py``: each scores its policy on ``tier``'s
+    test episodes and saves its submission) and keep their submissions beside ``board`` (the
+    board's results.json, which adds them when it is built: :func:`commit_board_tier`)."""
+    import numba
+
+    from agents.submit.submission import load_submission, stored_path
+    env = {**os.environ, "NUMBA_NUM_THREADS": str(numba.get_num_threads()),
+           "PYTHONPATH": os.pathsep.join(filter(None, [str(CHECKOUT), os.environ.get("PYTHONPATH")]))}
+    for name in EXAMPLES:
+        with tempfile.TemporaryDirectory() as tmp:
+            print(f"running: python examples/{name}.py", flush=True)
+            subprocess.run([sys.executable, str(CHECKOUT / "examples" / f"{name}.py")], cwd=tmp, env=env, check=True,
+                           stdout=subprocess.DEVNULL)
+            made = Path(tmp) / "runs" / "submissions" / f"{name}.json"
+            sub = load_submission(made)
+            if sub["tier"] != tier:
+                raise ValueError(f"examples/{name}.py scored tier {sub['tier']}, not {tier}")
+            keep = stored_path(board, sub)
+            keep.parent.mkdir(parents=True, exist_ok=True)
+            shutil.move(made, keep)
+
+
+def example_files(board: Path, tier: str = "transient") -> tuple[Path, ...]:
+    """The worked examples' submissions as ``board`` keeps them (submissions/<tier>_<name>.json beside it)."""
+    return tuple(board.parent / "submissions" / f"{tier}_{n}.json" for n in EXAMPLES)

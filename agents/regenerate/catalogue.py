@@ -52,7 +52,7 @@ def _maps(prof: Profile, L: Layout) -> list[Product]:
     chains = len(s.get("speeds", st.SPEEDS_RPM)) * len(s.get("radial_loads", st.RADIAL_LOADS_N)) \
         * len(s.get("clearances", st.CLEARANCES_M))
     bank = prof.start_bank
-    bank_out = L.data / f"start_bank_{bank['tier']}.npz"
+    bank_out = L.env_data / f"start_bank_{bank['tier']}.npz"
     golden = L.root / "tests" / "data" / "paper_golden.npz"
     return [
         Product("reward_map", "the stationary reward of every constant preload over a grid of operating points "
@@ -78,7 +78,7 @@ def _maps(prof: Profile, L: Layout) -> list[Product]:
                 (Part("bank", B.start_bank, (bank_out, bank["tier"], bank["first"], bank["stop"]),
                       env_cost(bank["stop"] - bank["first"], 0)),), settings=bank,
                 command=f"python -m bearing_gym.envs.start_bank --tier {bank['tier']} --seeds {bank['first']} "
-                        f"{bank['stop']} --out agents/data/start_bank_{bank['tier']}.npz"),
+                        f"{bank['stop']} --out bearing_gym/data/start_bank_{bank['tier']}.npz"),
     ]
 
 

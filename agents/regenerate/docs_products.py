@@ -34,17 +34,21 @@ def _board(prof: Profile, L) -> list[Product]:
     out = L.docs / "results.json"
     models = "agents/trained/*/seed_*" if prof.model_dirs == trained_runs() else " ".join(prof.model_dirs)
     command = f"python -m agents.leaderboard --tier TIER --model {models} --stored-references --keep-other-tiers"
-    commit = functools.partial(B.commit_board_tier, out, prof.name, command, (s.bootstrap_reps, s.poi_reps))
+    commit = functools.partial(B.commit_board_tier, out, prof.name, command, (s.bootstrap_reps, s.poi_reps),
+                               data_dir=L.data)
     rows = 5 + len({d.split("/")[-2] for d in prof.model_dirs})
     parts = tuple(Part(f"tier_{t}", B.board_tier, (t, s, prof.model_dirs, store, L.data, oracle),
                        env_cost(prof.board_for(t).episodes, s.episode_steps, 3 + len(prof.model_dirs))
                        + rows * s.bootstrap_reps * BOOTSTRAP_REP_S, commit) for t in prof.tiers)
     up = ("oracle_table",) + tuple(f"{k}:{t}" for t in prof.tiers for k in ("validation", "contextual", "references"))
+    up += ("examples",) if _has_examples(prof) else ()
     board = Product("board", "the leaderboard: every learned run and reference on the test episodes of every tier",
                     (out, out.with_name("results_table.md")), parts, upstream=up,
                     settings={"tiers": prof.tiers, "models": prof.model_dirs, "settings": s},
                     sources=tuple(B.CHECKOUT / d for d in prof.model_dirs),
-                    command=command.replace("TIER", " ".join(prof.tiers)) + " (a tier at a time)")
+                    digest=functools.partial(B.board_digest, out),
+                    command=command.replace("TIER", " ".join(prof.tiers)) + " (a tier at a time; the submissions kept "
+                    "in docs/submissions/ added again)")
     out_list = [board]
     for t in (t for t in prof.breakdown_tiers if t in prof.tiers):
         md = L.docs / f"score_breakdown_{t}.md"
@@ -136,6 +140,26 @@ def _figures(prof: Profile, L) -> list[Product]:
     return out
 
 
+def _has_examples(prof: Profile) -> bool:
+    return prof.examples and DEFAULT_TIER in prof.tiers
+
+
+def _examples(prof: Profile, L) -> list[Product]:
+    """The worked examples' submissions, kept beside the board (which adds them when built)."""
+    if not _has_examples(prof):
+        return []
+    board = L.docs / "results.json"
+    cost = len(B.EXAMPLES) * (env_cost(prof.board_for(DEFAULT_TIER).episodes, prof.board.episode_steps, 2)
+                              + prof.board.bootstrap_reps * BOOTSTRAP_REP_S * 2)
+    return [Product("examples", f"the open board's worked examples scored on {DEFAULT_TIER} (submissions the board "
+                    "adds: docs/benchmark.md)", B.example_files(board, DEFAULT_TIER),
+                    (Part("examples", B.examples, (board, DEFAULT_TIER), cost),),
+                    upstream=(f"references:{DEFAULT_TIER}", f"contextual:{DEFAULT_TIER}"),
+                    sources=(B.CHECKOUT / "examples",),
+                    command="python examples/<name>.py; the files kept in docs/submissions/")]
+
+
 def docs_products(prof: Profile, layout: Layout) -> list[Product]:
     """The products under ``docs/`` of ``prof``, upstream first (after the references)."""
-    return _board(prof, layout) + _chaos(prof, layout) + _tier_gap(prof, layout) + _figures(prof, layout)
+    return (_examples(prof, layout) + _board(prof, layout) + _chaos(prof, layout) + _tier_gap(prof, layout)
+            + _figures(prof, layout))

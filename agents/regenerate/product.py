@@ -48,6 +48,11 @@ class Layout:
         return self.root / "agents" / "data"
 
     @property
+    def env_data(self) -> Path:
+        """The env's own data (bearing_gym/data: the start banks that ``gymnasium.make`` reads)."""
+        return self.root / "bearing_gym" / "data"
+
+    @property
     def docs(self) -> Path:
         return self.root / "docs"
 

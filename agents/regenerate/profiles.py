@@ -53,6 +53,9 @@ class Profile:
     bench_accuracy: bool
     reproduction: bool
     breakdown_row: str = "SAC"
+    #: the open board's worked examples (examples/*.py) scored and shown beside the board's rows
+    #: (they read the checkout's stored references, so the full profile only)
+    examples: bool = False
 
     def board_for(self, tier: str) -> Settings:
         return self.board.for_tier(tier)
@@ -76,7 +79,7 @@ FULL = Profile(
     tier_gap={"tier": "transient", "seed": P.TIER_DESIGN.start, "episodes": 20, "grid_step": 50.0, "horizon": 10,
               "replan_every": 5},
     traces={"episodes": 2, "grid_step_n": P.HINDSIGHT_GRID_STEP_N},
-    learning_curves=trained_runs(), bench_accuracy=True, reproduction=True)
+    learning_curves=trained_runs(), bench_accuracy=True, reproduction=True, examples=True)
 
 _COARSE = SMOKE.hindsight_grid_step_n     # 300, 1150, 2000 N
 

@@ -14,6 +14,7 @@ from gymnasium import spaces
 from bearing_gym.params import BearingParams
 
 from .composition import DEFAULTS, PreloadTask, TaskParts, check_actions
+from .start_bank import env_scenario, install_for
 from .rendering import HumanWindow, draw_frame, latest_frame_path, record_interval, rgb_frame
 
 __all__ = ["BearingPreloadEnv", "latest_frame_path"]
@@ -109,7 +110,16 @@ class BearingPreloadEnv(TaskParts, gym.Env):
     ``max_inner_contact_load_n`` and ``max_outer_contact_load_n`` (N), ``life_used_per_s``
     (fraction of the L10 life per second), ``l10_life_h`` (h, the L10 life at the interval's
     loads and speed) and ``friction_torque_n_m`` (N m, Palmgren's load term);
-    ``docs/environment.md`` defines each.
+    ``docs/environment.md`` defines each. Every ``info`` key but the reward terms and ``cost`` is
+    privileged: a benchmark policy reads the observation only (docs/benchmark.md);
+    :class:`~bearing_gym.envs.PrivilegedObservation` appends the hidden scenario parameters to the
+    observation for research that wants them.
+
+    **Cost** (safe RL): ``info["cost"]``, a float in every step's info and 0.0 in the reset info:
+    1.0 if the interval was quasi-periodic, else 0.0; on termination 1 + the intervals left. The
+    constrained variant maximises ``reward=constrained_reward()`` (this reward without its
+    vibration term) with at most ``COST_BUDGET_PER_EPISODE`` = 15 quasi-periodic intervals per
+    episode (``bearing_gym.task``; docs/benchmark.md).
 
     ## Starting State
 
@@ -121,6 +131,9 @@ class BearingPreloadEnv(TaskParts, gym.Env):
     the ringing of the start. The reset info has the settled interval's ``qpi`` and
     ``nonsync_rms_um``.
 
+    With ``start_bank`` the scenarios are a start bank's (drawn uniformly from the env's
+    generator) and a reset copies the bank's settled start instead of settling (the same bits).
+
     ## Episode End
 
     Truncation after ``max_episode_steps`` = ``EPISODE_STEPS`` = 150 intervals (3 s), the
@@ -131,7 +144,7 @@ class BearingPreloadEnv(TaskParts, gym.Env):
 
     ``gymnasium.make("BearingPreload-v0", tier="transient", scenario=None, actuator=None,
     observation=None, reward=None, params=None, control_dt_s=0.02, episode_steps=150,
-    render_mode=None, render_dir=None)``
+    render_mode=None, render_dir=None, start_bank=None)``
 
     * ``tier``: ``"paper"``, ``"stationary"``, ``"transient"`` (the main benchmark, default) or
       ``"field"`` (:mod:`bearing_gym.envs.tiers` says what each asks of a policy).
@@ -154,6 +167,12 @@ class BearingPreloadEnv(TaskParts, gym.Env):
     * ``render_mode``: ``"rgb_array"``: ``render()`` returns the frame (H x W x 3 uint8);
       ``"human"``: ``reset()`` and ``step()`` draw the frame themselves (``render()`` returns
       None), see *Rendering*.
+    * ``start_bank``: ``"shipped"`` (the package's bank of the tier: ``transient``'s training seeds
+      0-1023), the path of a bank (``python -m bearing_gym.envs.start_bank``) or a
+      :class:`~bearing_gym.envs.start_bank.StartBank`: episodes draw its scenarios and start from
+      its settled states (a reset costs ~0.5 env steps instead of ~36: ``benchmarks/bench_reset.py``). Refused if another kernel
+      made it or it was made for another tier, horizon or env settings, and with ``scenario``.
+      Off by default: its scenarios are training scenarios only.
     * ``render_dir``: with ``render_mode="human"``, also save every frame there as
       ``frame_00000.png``, ``frame_00001.png``, ... (numbered over the env's life).
 
@@ -171,6 +190,11 @@ class BearingPreloadEnv(TaskParts, gym.Env):
 
     ## Version History
 
+    * v0 (the open board): ``info["cost"]`` (the quasi-periodic indicator, the safe-RL cost
+      channel; 0.0 at reset), the constrained variant's ``constrained_reward()``
+      (``VibrationFirstReward(vibration_weight=0)``), ``start_bank=`` and the privileged
+      observation wrapper. The benchmark's observations, rewards and bits are unchanged (kernel
+      6ff3acfe31277804).
     * v0 (benchmark v2: the fatigue term and the engineering ``info``): the fatigue term is the
       fraction of the L10 life used per second by Lundberg-Palmgren from the contact loads the
       model computes (inner and outer, every Newmark step, the balls' centrifugal force
@@ -213,11 +237,14 @@ class BearingPreloadEnv(TaskParts, gym.Env):
     def __init__(self, tier: str = DEFAULTS["tier"], scenario: Any = None, actuator: Any = None,
                  observation: Any = None, reward: Any = None, params: BearingParams | None = None,
                  control_dt_s: float = DEFAULTS["control_dt_s"], episode_steps: int = DEFAULTS["episode_steps"],
-                 render_mode: str | None = None, render_dir: str | os.PathLike | None = None):
+                 render_mode: str | None = None, render_dir: str | os.PathLike | None = None,
+                 start_bank: Any = None):
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(f"render_mode must be None or one of {self.metadata['render_modes']}, got {render_mode!r}")
+        scenario, bank = env_scenario(start_bank, scenario, tier)
         self.task = PreloadTask.build(tier, scenario, actuator, observation, reward, params, control_dt_s,
                                       episode_steps, num_envs=1)
+        install_for(bank, self.task)
         self.action_space = spaces.Box(-1.0, 1.0, shape=(1,), dtype=np.float32)
         self.observation_space = self.observation_model.space
         self.render_mode = render_mode

@@ -27,7 +27,7 @@ from .parts import rebuild_dataclass, resolve_part
 from .scenario import FixedScenario, Scenario, check_pinned
 from .tiers import CONTROL_DT_S, DEFAULT_TIER, EPISODE_STEPS, TIERS, tier_parts
 
-__all__ = ["PreloadTask", "TaskParts", "DEFAULTS", "check_actions", "measurement"]
+__all__ = ["PreloadTask", "TaskParts", "DEFAULTS", "check_actions", "measurement", "interval_cost"]
 
 _REQUIRED = {
     "scenario": ("sample",),
@@ -96,6 +96,17 @@ def measurement(batch: PreloadBatch, idx: np.ndarray, preload_before: np.ndarray
         terminated=np.asarray(terminated, dtype=bool), contact=contact, life_used_per_s=life,
         friction_torque_n_m=friction_torque_n_m(batch.base.geometry, radial, preload),
         preload_range_n=(float(a.min_preload_n), float(a.max_preload_n)))
+
+
+def interval_cost(quasi_periodic: bool, terminated: bool, steps_left: int) -> float:
+    """``info["cost"]`` of an interval, the safe-RL cost channel: 1.0 if the interval was
+    quasi-periodic, else 0.0; on termination (the integrator failed) 1 + the intervals left, as if
+    every one of them were quasi-periodic (a crash never pays, as in the reward's termination
+    term). The env's reset info has 0.0. Summed over an episode: the quasi-periodic intervals,
+    against ``bearing_gym.task.COST_BUDGET_PER_EPISODE`` in the constrained variant."""
+    if terminated:
+        return 1.0 + float(steps_left)
+    return 1.0 if quasi_periodic else 0.0
 
 
 @dataclass
@@ -172,7 +183,7 @@ class PreloadTask:
         m = self.measurement(idx, batch.preload[idx].copy(), np.full(len(idx), self.episode_steps),
                              batch.start_failed[idx].copy())
         obs = self.observation_model(m, self.sensor_state, np.asarray(idx), rngs)
-        return obs, [self._info(int(b), m, i) for i, b in enumerate(idx)]
+        return obs, [{**self._info(int(b), m, i), "cost": 0.0} for i, b in enumerate(idx)]
 
     def _info(self, b: int, m: StepMeasurement, i: int) -> dict[str, Any]:
         """The operating point, the preload, the motion and the bearing's engineering quantities
@@ -203,6 +214,7 @@ class PreloadTask:
         for i, b in enumerate(idx):
             info = {f"reward_{k}": float(terms[k][i]) for k in self.reward_model.term_names}
             info.update(self._info(int(b), m, i))
+            info["cost"] = interval_cost(bool(m.quasi_periodic[i]), bool(terminated[i]), int(steps_left[i]))
             if terminated[i]:
                 code = int(status[i])
                 info["termination_reason"] = ("the start diverged at this operating point" if batch.start_failed[b]

@@ -69,6 +69,13 @@ centrifugal force dominates: the loads ~ n^2, cubed, times the revolutions); und
 with a large clearance a light preload can even cost more life than a firmer one (fewer balls
 carry the load).
 
+**The constrained variant** (safe RL: "stay out of quasi-periodic vibration" as a constraint, not
+a penalty): :func:`constrained_reward` is this reward with ``vibration_weight=0`` (heat, fatigue
+and actuation; a termination still costs the worst interval, now without vibration, times the
+intervals left), and the vibration is the env's cost channel ``info["cost"]`` (1 per
+quasi-periodic interval; :func:`bearing_gym.envs.composition.interval_cost`) under the budget
+``bearing_gym.task.COST_BUDGET_PER_EPISODE`` per episode (docs/benchmark.md).
+
 Why these weights (nothing here is fitted to a policy):
 
 * heat and fatigue share the secondary cost equally (s_h = s_f = 0.5) and are scaled so that
@@ -119,7 +126,8 @@ from bearing_gym.validation import check_real
 from .measurement import StepMeasurement
 from .parts import part_entry_point
 
-__all__ = ["Reward", "VibrationFirstReward", "REWARD_TERMS", "corner_life_used_per_s", "smooth_cap"]
+__all__ = ["Reward", "VibrationFirstReward", "REWARD_TERMS", "corner_life_used_per_s", "smooth_cap",
+           "constrained_reward"]
 
 REWARD_TERMS = ("vibration", "heat", "fatigue", "actuation", "termination")
 HEAT_LOAD_EXPONENT = 1.33      # Palmgren: M_1 = f_1 P d_m, f_1 ~ (P_0 / C_0)^0.33
@@ -172,6 +180,9 @@ class VibrationFirstReward:
     heat_share: float = 0.5
     fatigue_share: float = 0.5
     actuation_weight: float = 0.1
+    #: 1: the benchmark's reward; 0: the constrained variant's (vibration is then the cost
+    #: channel ``info["cost"]`` under a budget per episode, not a term of the reward)
+    vibration_weight: float = 1.0
     min_preload_n: float = 300.0
     max_preload_n: float = 2000.0
     max_speed_rpm: float = 25000.0
@@ -183,7 +194,7 @@ class VibrationFirstReward:
     def __post_init__(self) -> None:
         check_real("amplitude_scale_um", self.amplitude_scale_um, 0.0, 1e6, low_open=True)
         check_real("amplitude_cap_um", self.amplitude_cap_um, 0.0, 1e6, low_open=True)
-        for name in ("heat_share", "fatigue_share", "actuation_weight"):
+        for name in ("heat_share", "fatigue_share", "actuation_weight", "vibration_weight"):
             check_real(name, getattr(self, name), 0.0, 1e6)
         lo = check_real("min_preload_n", self.min_preload_n, 0.0, 1e5)
         check_real("max_preload_n", self.max_preload_n, lo, 1e5, low_open=True)
@@ -222,14 +233,14 @@ class VibrationFirstReward:
 
     def vibration_cost(self, quasi_periodic, nonsync_rms_m) -> np.ndarray:
         amp_um = np.minimum(np.asarray(nonsync_rms_m) * 1e6, self.amplitude_cap_um)
-        return np.where(quasi_periodic, 1.0 + amp_um / self.amplitude_scale_um, 0.0)
+        return self.vibration_weight * np.where(quasi_periodic, 1.0 + amp_um / self.amplitude_scale_um, 0.0)
 
     def worst_step_cost(self, shaft_speed_rad_s, radial_load_n) -> np.ndarray:
         """An upper bound of one interval's cost at (and anywhere inside the envelope beyond)
         the given operating point: the termination penalty per interval left. Heat + fatigue
         never exceed max(heat at P_max, (s_h + s_f) max(1, n / n_max)), whatever the radial load
         (kept in the signature: a reward's bound may depend on it)."""
-        vib = 1.0 + self.amplitude_cap_um / self.amplitude_scale_um
+        vib = self.vibration_weight * (1.0 + self.amplitude_cap_um / self.amplitude_scale_um)
         speed = np.maximum(np.asarray(shaft_speed_rad_s, dtype=float), rpm_to_rad_s(self.max_speed_rpm))
         heat = self.heat_cost(self.max_preload_n, speed)
         secondary = np.maximum(heat, (self.heat_share + self.fatigue_share) * self._speed_ratio(speed))
@@ -251,3 +262,13 @@ class VibrationFirstReward:
         terms["termination"] = np.where(term, -worst * (np.asarray(m.steps_left) + 1.0), 0.0)
         reward = sum(terms[k] for k in REWARD_TERMS)
         return np.asarray(reward, dtype=np.float64), terms
+
+
+def constrained_reward() -> VibrationFirstReward:
+    """The constrained variant's reward: :class:`VibrationFirstReward` without its vibration term
+    (``vibration_weight=0``); the vibration is charged through ``info["cost"]`` against
+    ``bearing_gym.task.COST_BUDGET_PER_EPISODE`` (module docstring)::
+
+        gymnasium.make("BearingPreload-v0", reward=constrained_reward())
+    """
+    return VibrationFirstReward(vibration_weight=0.0)

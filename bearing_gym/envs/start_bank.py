@@ -13,7 +13,20 @@ per seed, drawn by a tier's own distribution), the state each settle ends in, an
 
 A bank is only valid for the kernel that computed it: it carries the kernel's fingerprint
 (:func:`bearing_gym.envs.provenance.kernel_hash`) and the env settings that the settle depends on,
-and :func:`load` refuses a bank made by another kernel, naming the command that rebuilds it.
+and :func:`load` refuses a bank made by another kernel, naming the command that rebuilds it;
+:func:`check_fits` refuses one made for another tier, horizon or env settings.
+
+**From gymnasium.make.** The package ships a bank per tier where one is worth it
+(:func:`shipped_path`: ``transient``, training seeds 0-1023); any env takes one::
+
+    env = gymnasium.make("BearingPreload-v0", start_bank="shipped")       # or a path, or a StartBank
+    venv = BearingPreloadVectorEnv(num_envs=8, start_bank="shipped")
+
+Its episodes then draw the bank's scenarios (uniformly, from the env's generator, so
+``reset(seed=s)`` is reproducible) and every reset is a copy. It is off by default: a bank is a
+finite set of *training* scenarios, so an env built with it cannot draw the validation or test
+scenarios of a seed, nor pin a scenario through ``reset(options=...)``; train.py uses the
+shipped bank by default (``--start-bank``), in its own order (each start once before any repeats).
 
     python -m bearing_gym.envs.start_bank --tier transient --seeds 0 1024 --out bank.npz
 """
@@ -33,9 +46,18 @@ import numpy as np
 from .core import install_settled
 from .scenario import Scenario
 
-__all__ = ["StartBank", "build", "load", "BankScenarios", "main"]
+__all__ = ["StartBank", "build", "load", "BankScenarios", "shipped_path", "check_fits", "resolve", "env_scenario",
+           "install_for", "main", "SHIPPED_DIR"]
 
 _FORMAT = 1
+#: where the package's own banks live (``start_bank_<tier>.npz``; ``python -m agents.regenerate``
+#: rebuilds them with every change of the kernel)
+SHIPPED_DIR = Path(__file__).resolve().parents[1] / "data"
+
+
+def shipped_path(tier: str) -> Path:
+    """The package's start bank of ``tier`` (it may not exist: not every tier ships one)."""
+    return SHIPPED_DIR / f"start_bank_{tier}.npz"
 
 
 @dataclass(frozen=True, eq=False)
@@ -95,8 +117,10 @@ def rebuild_command(tier: str, seeds: tuple[int, ...], out: str | Path) -> str:
 def build(tier: str, seeds, batch_envs: int = 32, progress: bool = False, **env_kwargs: Any) -> StartBank:
     """Settle the scenario of every seed of ``seeds`` on ``tier`` (``batch_envs`` at a time: the
     settles of a batch run together on the numba threads) and keep the states."""
+    from gymnasium.utils import seeding
+
+    from .composition import DEFAULTS, PreloadTask
     from .provenance import kernel_hash
-    from .vector import BearingPreloadVectorEnv
     seeds = tuple(int(s) for s in seeds)
     if not seeds:
         raise ValueError("seeds must name at least one seed")
@@ -105,17 +129,26 @@ def build(tier: str, seeds, batch_envs: int = 32, progress: bool = False, **env_
     except TypeError:
         raise TypeError(f"start bank env_kwargs must be JSON values (the bank records them), got {env_kwargs!r}") from None
     n = max(1, min(int(batch_envs), len(seeds)))
-    venv = BearingPreloadVectorEnv(num_envs=n, tier=tier, max_episode_steps=None, **env_kwargs)
+    unknown = sorted(set(env_kwargs) - {"scenario", "actuator", "observation", "reward", "params", "control_dt_s",
+                                        "episode_steps"})
+    if unknown:
+        raise TypeError(f"start bank env_kwargs {unknown} are not env arguments that a settle depends on")
+    # the envs' own composition; each env's generator seeded as the envs seed it (reset(seed=s))
+    task = PreloadTask.build(tier, env_kwargs.get("scenario"), env_kwargs.get("actuator"),
+                             env_kwargs.get("observation"), env_kwargs.get("reward"), env_kwargs.get("params"),
+                             env_kwargs.get("control_dt_s", DEFAULTS["control_dt_s"]),
+                             env_kwargs.get("episode_steps", DEFAULTS["episode_steps"]), num_envs=n)
     scenarios: list[Scenario] = []
     digests: list[str] = []
     states: dict[str, tuple[np.ndarray, ...]] = {}
     t0 = time.time()
     for k in range(0, len(seeds), n):
         chunk = list(seeds[k:k + n])
-        venv.reset(seed=chunk + [chunk[-1]] * (n - len(chunk)))
+        idx = np.arange(len(chunk), dtype=np.int64)
+        task.reset(idx, [seeding.np_random(s)[0] for s in chunk], None)
         for b in range(len(chunk)):
-            digest, state = venv.batch.settled_state(b)
-            scenarios.append(venv.batch.scenarios[b])
+            digest, state = task.batch.settled_state(b)
+            scenarios.append(task.batch.scenarios[b])
             digests.append(digest)
             states[digest] = state
         if progress:
@@ -123,7 +156,6 @@ def build(tier: str, seeds, batch_envs: int = 32, progress: bool = False, **env_
             el = time.time() - t0
             print(f"start bank {tier}: {done}/{len(seeds)} starts settled, {el / 60:.1f} min, about "
                   f"{el / done * (len(seeds) - done) / 60:.1f} min left", flush=True)
-    venv.close()
     return StartBank(tier, seeds, tuple(scenarios), tuple(digests), states, kernel_hash(), dict(env_kwargs))
 
 
@@ -156,6 +188,74 @@ def load(path: str | Path, check_kernel: bool = True) -> StartBank:
                      meta["kernel_hash"], dict(meta["env_kwargs"]), path)
 
 
+def check_fits(bank: StartBank, tier: str, episode_steps: int, batch) -> StartBank:
+    """``bank`` if it fits envs of ``tier`` with ``episode_steps``-step episodes whose physics is
+    ``batch`` (a :class:`~bearing_gym.envs.core.PreloadBatch`: the bank's first scenario must
+    have the settle key it was stored under, i.e. the same physics, actuator and control
+    interval); ValueError saying why not. Loads that scenario into ``batch``'s env 0 (a reset
+    loads its own)."""
+    where = bank.path if bank.path is not None else "the start bank"
+    if bank.tier != tier:
+        raise ValueError(f"{where} holds tier {bank.tier!r} starts, this env is of tier {tier!r}")
+    bank_steps = bank.env_kwargs.get("episode_steps", _default_episode_steps())
+    if bank_steps != episode_steps:
+        raise ValueError(f"{where} holds scenarios of {bank_steps}-step episodes, this env's have {episode_steps}")
+    batch.load(0, bank.scenarios[0])
+    if batch.settle_digest(0) != bank.digests[0]:       # the bank must hold this env's settles
+        raise ValueError(f"{where} was built for other env settings (physics, actuator or control interval) than "
+                         f"this env's: its starts would never be used; rebuild it: "
+                         f"{rebuild_command(bank.tier, bank.seeds, where)}")
+    return bank
+
+
+def _default_episode_steps() -> int:
+    from bearing_gym.task import EPISODE_STEPS
+    return EPISODE_STEPS
+
+
+def resolve(start_bank: Any, tier: str) -> StartBank:
+    """The bank an env's ``start_bank`` argument names: ``"shipped"`` (the package's bank of
+    ``tier``: FileNotFoundError naming the tiers that have one if it has none), a path to a
+    ``.npz``, or a :class:`StartBank`. Refused (ValueError) if another kernel made it."""
+    if isinstance(start_bank, StartBank):
+        from .provenance import kernel_hash
+        if start_bank.kernel_hash != kernel_hash():
+            raise ValueError(f"the start bank was made by kernel {start_bank.kernel_hash}, not this one "
+                             f"({kernel_hash()}): its states would not be this kernel's settles; rebuild it with "
+                             f"`{rebuild_command(start_bank.tier, start_bank.seeds, start_bank.path or 'bank.npz')}`")
+        return start_bank
+    if start_bank == "shipped":
+        path = shipped_path(tier)
+        if not path.exists():
+            have = sorted(p.stem.removeprefix("start_bank_") for p in SHIPPED_DIR.glob("start_bank_*.npz"))
+            raise FileNotFoundError(f"start_bank='shipped': no bank ships for tier {tier!r} (tiers with one: "
+                                    f"{', '.join(have) or 'none'}); build one with `{rebuild_command(tier, (0, 1023), 'bank.npz')}` "
+                                    "and pass its path")
+        return load(path)
+    if isinstance(start_bank, (str, Path)):
+        return load(start_bank)
+    raise TypeError(f"start_bank must be 'shipped', the path of a bank (.npz) or a StartBank, got {start_bank!r}")
+
+
+def env_scenario(start_bank: Any, scenario: Any, tier: str) -> tuple[Any, "StartBank | None"]:
+    """What an env's ``start_bank`` argument makes of its ``scenario`` argument: (the scenario part,
+    the bank) - the bank's scenarios drawn uniformly, or ``scenario`` unchanged and None without a
+    bank. Both given: ValueError. The env then calls :func:`install_for` with its task."""
+    if start_bank is None:
+        return scenario, None
+    if scenario is not None:
+        raise ValueError("start_bank draws the bank's scenarios: pass scenario= or start_bank=, not both")
+    bank = resolve(start_bank, tier)
+    return BankScenarios(bank, draw="uniform"), bank
+
+
+def install_for(bank: "StartBank | None", task: Any) -> None:
+    """Check that ``bank`` fits the env's ``task`` (:class:`~bearing_gym.envs.composition.PreloadTask`:
+    tier, horizon, physics; :func:`check_fits`) and install it; nothing without a bank."""
+    if bank is not None:
+        check_fits(bank, task.tier, task.episode_steps, task.batch).install()
+
+
 @dataclass
 class BankScenarios:
     """A scenario part that draws the scenarios of a start bank: each once, in an order drawn from
@@ -172,10 +272,16 @@ class BankScenarios:
     bank: StartBank = dataclasses.field(repr=False, compare=False)
     #: draws of the first order to pass over (made by an earlier session of the same run)
     skip: int = 0
+    #: ``"permutation"`` (above; train.py) or ``"uniform"``: each draw an independent uniform
+    #: pick by the env's generator, so ``reset(seed=s)`` gives the same scenario every time
+    #: (what Gymnasium's env checks ask; an env's ``start_bank`` argument uses it)
+    draw: str = "permutation"
 
     def __post_init__(self) -> None:
         if not len(self.bank):
             raise ValueError("BankScenarios needs a start bank with at least one scenario")
+        if self.draw not in ("permutation", "uniform"):
+            raise ValueError(f"BankScenarios draw must be 'permutation' or 'uniform', got {self.draw!r}")
         if int(self.skip) != self.skip or self.skip < 0:
             raise ValueError(f"BankScenarios skip must be a whole number >= 0 of draws, got {self.skip!r}")
         self._order: np.ndarray | None = None
@@ -185,6 +291,8 @@ class BankScenarios:
         if pinned:
             raise ValueError(f"a start bank's scenarios are fixed: reset options {sorted(pinned)} cannot pin them "
                              "(pass options={'scenario': Scenario(...)} for one of your own)")
+        if self.draw == "uniform":
+            return self.bank.scenarios[int(rng.integers(len(self.bank)))]
         if self._order is None:
             self._order, self._next = rng.permutation(len(self.bank)), int(self.skip)
         while self._next >= len(self._order):

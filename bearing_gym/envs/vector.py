@@ -19,6 +19,7 @@ from bearing_gym.units import rad_s_to_rpm
 
 from .bearing_preload import BearingPreloadEnv
 from .composition import DEFAULTS, PreloadTask, TaskParts, check_actions
+from .start_bank import env_scenario, install_for
 from .rendering import HISTORY_LENGTH, POINCARE_LENGTH, record_interval, rgb_frame
 
 __all__ = ["BearingPreloadVectorEnv", "ResetMaskError"]
@@ -65,7 +66,7 @@ class BearingPreloadVectorEnv(TaskParts, VectorEnv):
                  params: BearingParams | None = None, control_dt_s: float = DEFAULTS["control_dt_s"],
                  episode_steps: int = DEFAULTS["episode_steps"],
                  max_episode_steps: int | None = DEFAULTS["episode_steps"],
-                 num_threads: int | None = None, render_mode: str | None = None):
+                 num_threads: int | None = None, render_mode: str | None = None, start_bank: Any = None):
         if render_mode is not None and render_mode not in self.metadata["render_modes"]:
             raise ValueError(
                 f"render_mode must be None or 'rgb_array' (a tuple of the envs' frames), got "
@@ -74,8 +75,10 @@ class BearingPreloadVectorEnv(TaskParts, VectorEnv):
         if isinstance(num_envs, bool) or not isinstance(num_envs, (int, np.integer)) or num_envs < 1:
             raise ValueError(f"num_envs must be an integer >= 1, got {num_envs!r}")
         self.num_envs = int(num_envs)
+        scenario, bank = env_scenario(start_bank, scenario, tier)
         self.task = PreloadTask.build(tier, scenario, actuator, observation, reward, params, control_dt_s,
                                       episode_steps, num_envs=self.num_envs)
+        install_for(bank, self.task)
         self.max_episode_steps = max_episode_steps
         if num_threads is not None and not (1 <= num_threads <= numba.config.NUMBA_NUM_THREADS):
             raise ValueError(f"num_threads must be in [1, {numba.config.NUMBA_NUM_THREADS}], got {num_threads}")

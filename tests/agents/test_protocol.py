@@ -90,3 +90,11 @@ def test_a_deterministic_tier_takes_one_episode_of_each_count():
     assert protocol.episodes_for_tier("paper", 0) == 0
     for tier in ("stationary", "transient", "field"):
         assert protocol.episodes_for_tier(tier, protocol.TEST_EPISODES) == protocol.TEST_EPISODES
+
+
+def test_the_shipped_start_bank_holds_training_seeds_only():
+    """The env's start_bank="shipped" draws only scenarios of training seeds: never a validation
+    or test scenario (docs/benchmark.md, the rules)."""
+    from bearing_gym.envs import start_bank as banks
+    bank = banks.load(banks.shipped_path("transient"), check_kernel=False)
+    assert bank.seeds and all(protocol.range_of(s) == "train" for s in bank.seeds)

@@ -20,6 +20,7 @@ import re
 from pathlib import Path
 
 import gymnasium
+import numpy as np
 import pytest
 
 import bearing_gym  # noqa: F401 - registers BearingPreload-v0
@@ -87,6 +88,26 @@ def test_rllib_snippet_has_the_shape_the_slow_test_runs():
     assert spec.max_episode_steps == EPISODE_STEPS
 
 
+SCORE_EPISODES = 2
+
+
+def _score_through_the_adapter(algo):
+    """The trained module scored on the first test episodes through docs/scaling.md's adapter,
+    and its actions and the module's own Gaussian means on a few observations."""
+    import torch
+    from ray.rllib.core.columns import Columns
+
+    from agents.submit import score
+    from agents.submit.rllib import RLlibPolicy
+    policy = RLlibPolicy(algo)
+    obs = np.stack([gymnasium.make(ENV_ID).reset(seed=s)[0] for s in range(3)])
+    with torch.no_grad():
+        inputs = policy.module.forward_inference({Columns.OBS: torch.as_tensor(obs)})[Columns.ACTION_DIST_INPUTS]
+    scored = score(policy, tier="transient", episodes=SCORE_EPISODES, name="RLlib PPO", progress=False,
+                   bootstrap_reps=500, poi_reps=100)
+    return scored, policy.predict(obs)[0], inputs[:, 0].numpy()
+
+
 @pytest.mark.slow
 def test_rllib_snippet_trains_ppo_on_two_env_runners():
     pytest.importorskip("ray.rllib", reason='RLlib is not installed: pip install -e ".[rllib]"')
@@ -120,6 +141,7 @@ def test_rllib_snippet_trains_ppo_on_two_env_runners():
         try:
             results = [algo.train() for _ in range(ITERATIONS)]
             envs = algo.env_runner_group.foreach_env_runner(sub_envs, local_env_runner=False)
+            scored, actions, means = _score_through_the_adapter(algo)
         finally:
             algo.stop()
     finally:
@@ -156,6 +178,12 @@ def test_rllib_snippet_trains_ppo_on_two_env_runners():
         assert all(math.isfinite(v) for v in (lo, mean, hi)), er
         assert -worst * EPISODE_STEPS <= lo <= mean <= hi < 0.0, (lo, mean, hi)
         assert 1 <= er["episode_len_min"] <= er["episode_len_max"] == EPISODE_STEPS
+
+    # the board's adapter (agents.submit.rllib, docs/scaling.md): its actions are the module's
+    # Gaussian means clipped to the action space, and the scoring API scores them
+    np.testing.assert_array_equal(actions[:, 0], np.clip(means, -1.0, 1.0).astype(np.float32))
+    assert scored.row["n_episodes"] == SCORE_EPISODES and math.isfinite(scored.row["normalised_score_iqm"])
+    assert all(-worst * EPISODE_STEPS <= r < 0.0 for r in scored.row["episode_returns"][0])
 
     learner = results[-1]["learners"]["default_policy"]
     for key in ("policy_loss", "vf_loss", "total_loss"):

@@ -248,9 +248,9 @@ def test_a_start_bank_gives_training_its_scenarios_without_a_settle(tmp_path, mo
     seen += list(env.venv.venv.batch.scenarios)
     bank = banks.load(path)
     assert sorted(bank.scenarios.index(sc) for sc in seen) == [0, 1, 2, 3]    # all four, none twice
-    with pytest.raises(SystemExit, match="holds tier 'transient' starts, this run trains on 'stationary'"):
+    with pytest.raises(SystemExit, match="holds tier 'transient' starts, this env is of tier 'stationary'"):
         train.make_env(2, 0, 6, "stationary", start_bank=path)
-    with pytest.raises(SystemExit, match="scenarios of 6-step episodes, this run's have 150"):
+    with pytest.raises(SystemExit, match="scenarios of 6-step episodes, this env's have 150"):
         train.make_env(2, 0, 150, "transient", start_bank=path)
     with pytest.raises(SystemExit, match="built for other env settings"):      # another control interval
         train.make_env(2, 0, 6, "transient", start_bank=other)
@@ -278,7 +278,7 @@ def test_train_uses_the_shipped_start_bank_only_where_it_fits(tmp_path, monkeypa
     # a bank for other episodes is passed over with the reason, not used and not fatal
     assert train.choose_start_bank("auto", "transient", 150) is None
     assert "not used" in capsys.readouterr().out
-    with pytest.raises(SystemExit, match="scenarios of 6-step episodes, this run's have 150"):
+    with pytest.raises(SystemExit, match="scenarios of 6-step episodes, this env's have 150"):
         train.choose_start_bank(str(shipped), "transient", 150)
 
 
@@ -325,7 +325,7 @@ def test_protocol_runs_train_without_a_start_bank():
 
 
 def test_the_shipped_start_bank_is_this_kernels_settles(monkeypatch):
-    """agents/data/start_bank_transient.npz (train.py's default): made by this kernel for the
+    """bearing_gym/data/start_bank_transient.npz (train.py's default): made by this kernel for the
     default env (a kernel change without a rebuild fails here, naming the command), its first and
     last starts equal a fresh settle bit for bit, and it holds more starts than a run of the
     budget has episodes (none is met twice)."""
