@@ -49,7 +49,10 @@ from agents.protocol import STEP_BUDGET_PER_RUN, TEST, VALIDATION, VALIDATION_EP
 from bearing_gym.task import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES  # noqa: E402
 
 PROGRESS_EVERY_S = 30.0     # at most one progress line per this many seconds
-ALGOS = ("ppo", "sac", "ppo_lstm")
+#: train.py's --algo: agents.evaluation.trained's algorithms (SB3's PPO and SAC, sb3-contrib's
+#: RecurrentPPO, TQC and CrossQ), each with its RL Zoo file in agents/hyperparams/
+ALGOS = ("ppo", "sac", "ppo_lstm", "tqc", "crossq")
+OFF_POLICY = ("sac", "tqc", "crossq")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -290,7 +293,6 @@ def main(argv: list[str] | None = None) -> int:
         raise SystemExit(f"train.py: --val-seed {args.val_seed} overlaps the held-out test seeds "
                          f"{TEST_SEED}..{TEST_SEED + max(args.eval_episodes, 1) - 1}; pick another")
     import torch
-    from stable_baselines3 import PPO, SAC
     from stable_baselines3.common.callbacks import CallbackList, CheckpointCallback
     from stable_baselines3.common.vec_env import VecNormalize
 
@@ -299,13 +301,13 @@ def main(argv: list[str] | None = None) -> int:
     torch.set_num_threads(1)          # the environment kernel uses the cores
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    if args.algo == "ppo_lstm":
-        from sb3_contrib import RecurrentPPO
-        algo_cls = RecurrentPPO
-    else:
-        algo_cls = {"ppo": PPO, "sac": SAC}[args.algo]
+    import importlib
+
+    from agents.evaluation.trained import ALGORITHM_CLASSES
+    module, cls_name = ALGORITHM_CLASSES[args.algo]
+    algo_cls = getattr(importlib.import_module(module), cls_name)
     policy = "MlpLstmPolicy" if args.algo == "ppo_lstm" else "MlpPolicy"
-    off_policy = args.algo == "sac"   # its replay buffer is checkpointed too, so --resume continues it
+    off_policy = args.algo in OFF_POLICY   # its replay buffer is checkpointed too, so --resume continues it
     t0 = time.time()
     if args.tier != DEFAULT_TIER or args.episode_steps != EPISODE_STEPS:
         print(f"note: tier {args.tier}, {args.episode_steps}-step episodes: not the benchmark's definition "
