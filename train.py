@@ -45,11 +45,15 @@ from agents.extras import require_extra
 require_extra("train.py")        # the rl extra: SB3, sb3-contrib, torch (before any of them is imported)
 
 from agents.paths import start_bank_path  # noqa: E402
+from agents.training.setup import hyperparams, load_start_bank, make_env  # noqa: E402,F401 (train.<name> for tests)
 from agents.protocol import STEP_BUDGET_PER_RUN, TEST, VALIDATION, VALIDATION_EPISODES_IN_TRAINING, VALIDATION_EVERY_STEPS  # noqa: E402
 from bearing_gym.task import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES  # noqa: E402
 
 PROGRESS_EVERY_S = 30.0     # at most one progress line per this many seconds
-ALGOS = ("ppo", "sac", "ppo_lstm")
+#: train.py's --algo: agents.evaluation.trained's algorithms (SB3's PPO and SAC, sb3-contrib's
+#: RecurrentPPO, TQC and CrossQ), each with its RL Zoo file in agents/hyperparams/
+ALGOS = ("ppo", "sac", "ppo_lstm", "tqc", "crossq")
+OFF_POLICY = ("sac", "tqc", "crossq")
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -94,33 +98,6 @@ def build_parser() -> argparse.ArgumentParser:
     return ap
 
 
-def hyperparams(algo: str) -> dict:
-    import yaml
-    path = Path(__file__).resolve().parent / "agents" / "hyperparams" / f"{algo}.yml"
-    cfg = yaml.safe_load(path.read_text())["BearingPreload-v0"]
-    out = {k: v for k, v in cfg.items() if k not in ("n_timesteps", "policy", "normalize", "n_envs", "policy_kwargs", "env_kwargs")}
-    if "policy_kwargs" in cfg:
-        out["policy_kwargs"] = eval(cfg["policy_kwargs"], {"dict": dict})  # RL Zoo stores it as a string
-    return out
-
-
-def load_start_bank(path: str | Path, tier: str, episode_steps: int):
-    """The start bank at ``path`` if it fits a run on ``tier`` with ``episode_steps``-step
-    episodes and the env's default physics and timing; ValueError saying why not
-    (:func:`bearing_gym.envs.start_bank.check_fits`)."""
-    from bearing_gym.envs import BearingPreloadVectorEnv
-    from bearing_gym.envs import start_bank as banks
-    try:
-        bank = banks.load(path)
-    except OSError as err:
-        raise ValueError(str(err)) from None
-    probe = BearingPreloadVectorEnv(num_envs=1, tier=tier, episode_steps=episode_steps, max_episode_steps=None)
-    try:
-        return banks.check_fits(bank, tier, episode_steps, probe.batch)
-    finally:
-        probe.close()
-
-
 def choose_start_bank(option: str | None, tier: str, episode_steps: int):
     """The bank ``--start-bank`` names (``auto`` or None: the shipped one of the tier if it fits,
     else None, saying why; ``none``: None; a path: that bank, SystemExit if it does not fit), as a
@@ -154,34 +131,6 @@ def bank_draws_made(num_timesteps: int, n_envs: int, episode_steps: int) -> int:
     episode running its ``episode_steps`` (the envs step in lockstep and reset as soon as an
     episode ends, so each env has drawn one more than it has finished)."""
     return n_envs * (num_timesteps // n_envs // episode_steps + 1)
-
-
-def make_env(n_envs: int, seed: int, episode_steps: int, tier: str, threads: int | None = None,
-             start_bank=None, bank_draws_done: int = 0):
-    """``n_envs`` environments stepped by one numba kernel on ``threads`` threads (default: one
-    per env, at most numba's thread count - the cores, or ``NUMBA_NUM_THREADS`` if set); with
-    ``start_bank`` (a loaded bank, or the path of a .npz of :mod:`bearing_gym.envs.start_bank`:
-    SystemExit if it does not fit the run) they draw its scenarios, skipping the first
-    ``bank_draws_done`` of the order (a resumed run: those its earlier sessions drew), and copy
-    its settled starts."""
-    import numba
-    from stable_baselines3.common.vec_env import VecMonitor
-
-    from bearing_gym.envs import BearingPreloadSB3VecEnv
-    extra = {}
-    if start_bank is not None:
-        from bearing_gym.envs import start_bank as banks
-        if isinstance(start_bank, (str, Path)):
-            try:
-                start_bank = load_start_bank(start_bank, tier, episode_steps)
-            except ValueError as err:
-                raise SystemExit(f"train.py: --start-bank: {err}") from None
-        extra["scenario"] = banks.BankScenarios(start_bank.install(), skip=bank_draws_done)
-    venv = BearingPreloadSB3VecEnv(num_envs=n_envs, tier=tier, episode_steps=episode_steps,
-                                   max_episode_steps=episode_steps,
-                                   num_threads=threads or min(n_envs, numba.config.NUMBA_NUM_THREADS), **extra)
-    venv.seed(seed)
-    return VecMonitor(venv)
 
 
 BANK_RECORD = "start_bank.json"
@@ -290,7 +239,6 @@ def main(argv: list[str] | None = None) -> int:
         raise SystemExit(f"train.py: --val-seed {args.val_seed} overlaps the held-out test seeds "
                          f"{TEST_SEED}..{TEST_SEED + max(args.eval_episodes, 1) - 1}; pick another")
     import torch
-    from stable_baselines3 import PPO, SAC
     from stable_baselines3.common.callbacks import CallbackList, CheckpointCallback
     from stable_baselines3.common.vec_env import VecNormalize
 
@@ -299,13 +247,13 @@ def main(argv: list[str] | None = None) -> int:
     torch.set_num_threads(1)          # the environment kernel uses the cores
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    if args.algo == "ppo_lstm":
-        from sb3_contrib import RecurrentPPO
-        algo_cls = RecurrentPPO
-    else:
-        algo_cls = {"ppo": PPO, "sac": SAC}[args.algo]
+    import importlib
+
+    from agents.evaluation.trained import ALGORITHM_CLASSES
+    module, cls_name = ALGORITHM_CLASSES[args.algo]
+    algo_cls = getattr(importlib.import_module(module), cls_name)
     policy = "MlpLstmPolicy" if args.algo == "ppo_lstm" else "MlpPolicy"
-    off_policy = args.algo == "sac"   # its replay buffer is checkpointed too, so --resume continues it
+    off_policy = args.algo in OFF_POLICY   # its replay buffer is checkpointed too, so --resume continues it
     t0 = time.time()
     if args.tier != DEFAULT_TIER or args.episode_steps != EPISODE_STEPS:
         print(f"note: tier {args.tier}, {args.episode_steps}-step episodes: not the benchmark's definition "

@@ -35,6 +35,8 @@ __all__ = ["PROTOCOL_VERSION", "TRAIN", "VALIDATION", "TIER_DESIGN", "TEST", "RE
            "VALIDATION_GRID_STEP_N", "CONTEXTUAL_GRID_STEP_N", "ALGORITHMS", "HEADLINE_ALGORITHM",
            "HEADLINE_SEEDS", "OTHER_SEEDS", "RUN_SEED_STRIDE", "STEP_BUDGET_PER_RUN",
            "STEP_BUDGET_CHOSEN_FROM_THROUGHPUT", "VALIDATION_EPISODES_IN_TRAINING", "VALIDATION_EVERY_STEPS",
+           "TUNING_TRIALS", "TUNING_STEPS", "TUNING_VALIDATION_EPISODES", "TUNING_STARTUP_TRIALS",
+           "TUNING_PRUNE_AFTER_STEPS", "TUNING_LAST_VALIDATIONS", "TUNING_SAMPLER_SEED", "TUNING_TRAIN_SEED",
            "training_seeds", "held_out_seeds", "validation_seeds", "episodes_for_tier",
            "preload_grid", "check_protocol"]
 
@@ -99,6 +101,28 @@ RUN_SEED_STRIDE = 1_000
 #: claim: the leaderboard reports what this budget buys, not what a longer run might.
 STEP_BUDGET_PER_RUN = 100_000
 STEP_BUDGET_CHOSEN_FROM_THROUGHPUT = True
+
+
+# -- protocol v2's hyperparameter search (agents.training.tuning), fixed before any trial ----------
+#: Per algorithm (agents.training.search_spaces.ALGORITHMS) the same budget: TUNING_TRIALS trials of
+#: at most TUNING_STEPS env steps on the benchmark's tier, validated every VALIDATION_EVERY_STEPS
+#: on TUNING_VALIDATION_EPISODES validation episodes (seeds VALIDATION.start on, whose references
+#: the store holds: the test seeds tune nothing); optuna's median pruner stops a trial whose score
+#: falls below the median of the earlier trials at the same step, from the TUNING_STARTUP_TRIALS-th
+#: trial on and after TUNING_PRUNE_AFTER_STEPS steps; TPE sampler seeded TUNING_SAMPLER_SEED
+#: (multivariate). A trial's score: the IQM of its normalised validation scores (0 the validation
+#: constant, 1 the hindsight constant, the board's floor); its objective the mean of its last
+#: TUNING_LAST_VALIDATIONS scores. Trial k trains with seed TUNING_TRAIN_SEED + k * RUN_SEED_STRIDE
+#: (inside TRAIN, apart from the protocol's runs and the contextual fit). 16 x 60k = 0.96 M env
+#: steps per algorithm at most, ~2 h of the 2-core machine at ~130 env steps/s.
+TUNING_TRIALS = 16
+TUNING_STEPS = 60_000
+TUNING_VALIDATION_EPISODES = 20
+TUNING_STARTUP_TRIALS = 5
+TUNING_PRUNE_AFTER_STEPS = 20_000
+TUNING_LAST_VALIDATIONS = 3
+TUNING_SAMPLER_SEED = 0
+TUNING_TRAIN_SEED = TRAIN.start + 20_000
 
 
 def check_disjoint(ranges: dict[str, range] = RANGES) -> None:
@@ -200,6 +224,14 @@ def check_protocol(**overrides: Any) -> None:
     if fit.start < last_run_block_end:
         raise ValueError(f"the contextual fit seeds {fit.start}.. overlap the training runs' seed blocks "
                          f"(up to {last_run_block_end}): raise CONTEXTUAL_FIT_SEED")
+    tuning = range(g["TUNING_TRAIN_SEED"], g["TUNING_TRAIN_SEED"] + g["TUNING_TRIALS"] * g["RUN_SEED_STRIDE"])
+    if tuning.start < last_run_block_end or tuning.stop > fit.start:
+        raise ValueError(f"the tuning trials' seed blocks {tuning.start}..{tuning.stop - 1} must lie between the "
+                         "training runs' blocks and the contextual fit")
+    if not 1 <= g["TUNING_VALIDATION_EPISODES"] <= g["VALIDATION_CONSTANT_EPISODES"]:
+        raise ValueError("TUNING_VALIDATION_EPISODES must be in [1, VALIDATION_CONSTANT_EPISODES] (stored references)")
+    if not 1 <= g["TUNING_LAST_VALIDATIONS"] <= g["TUNING_STEPS"] // g["VALIDATION_EVERY_STEPS"]:
+        raise ValueError("TUNING_LAST_VALIDATIONS must be at least 1 and at most the validations of a trial")
     if not 1 <= g["VALIDATION_EPISODES_IN_TRAINING"] <= g["VALIDATION_CONSTANT_EPISODES"]:
         raise ValueError("VALIDATION_EPISODES_IN_TRAINING must be in [1, VALIDATION_CONSTANT_EPISODES]: the learning "
                          "curves score them against the stored validation references")

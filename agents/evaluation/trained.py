@@ -20,7 +20,8 @@ from agents.policies.portable import PORTABLE_FILE, export_arrays, source_digest
 
 #: The algorithms load_trained knows: train.py's --algo -> (module, class).
 ALGORITHM_CLASSES = {"ppo": ("stable_baselines3", "PPO"), "sac": ("stable_baselines3", "SAC"),
-                     "ppo_lstm": ("sb3_contrib", "RecurrentPPO")}
+                     "ppo_lstm": ("sb3_contrib", "RecurrentPPO"), "tqc": ("sb3_contrib", "TQC"),
+                     "crossq": ("sb3_contrib", "CrossQ")}
 
 
 

@@ -14,7 +14,9 @@ trained SB3 policy without torch: its weights are exported once
   PPO (``MlpPolicy``): policy MLP (tanh) -> ``action_net``, clipped to [-1, 1];
   RecurrentPPO (``MlpLstmPolicy``): the actor LSTM (gates i, f, g, o as torch orders them; state
   reset at an episode start) -> policy MLP (tanh) -> ``action_net``, clipped;
-  SAC: actor MLP (ReLU) -> ``mu`` -> tanh, unscaled to the action space as SB3 does;
+  SAC and TQC: actor MLP (ReLU) -> ``mu`` -> tanh, unscaled to the action space as SB3 does;
+  CrossQ: the same, its batch-renormalisation layers (running statistics) folded into the
+  linear layers at export;
 * the action as float32, as SB3 returns it.
 
 It agrees with torch's float32 action to float32 precision (``tests/agents/policies/test_portable.py``,
@@ -88,9 +90,23 @@ def _lstm_step(w_ih, w_hh, b_ih, b_hh, x, h, c):
     return h_new, c_new
 
 
+def _renorm_affine(layer) -> tuple[np.ndarray, np.ndarray]:
+    """sb3-contrib's BatchRenorm in evaluation mode as x -> a x + d (float64): (x - ra_mean) /
+    sqrt(ra_var + eps), times ``scale`` plus ``bias`` if affine."""
+    mean = layer.ra_mean.detach().cpu().double().numpy()
+    inv = 1.0 / np.sqrt(layer.ra_var.detach().cpu().double().numpy() + float(layer.eps))
+    a, d = inv, -mean * inv
+    if layer.affine:
+        g = layer.scale.detach().cpu().double().numpy()
+        a, d = a * g, d * g + layer.bias.detach().cpu().double().numpy()
+    return a, d
+
+
 def export_arrays(model, obs_rms=None, clip_obs: float = 10.0, epsilon: float = 1e-8) -> dict[str, np.ndarray]:
-    """The arrays of a loaded SB3 model (PPO, SAC or sb3-contrib's RecurrentPPO, MLP policies)
-    and its VecNormalize statistics, as :class:`PortablePolicy` reads them."""
+    """The arrays of a loaded SB3 model (PPO, SAC, sb3-contrib's RecurrentPPO, TQC and CrossQ,
+    MLP policies) and its VecNormalize statistics, as :class:`PortablePolicy` reads them. TQC's
+    actor is SAC's; CrossQ's batch-renormalisation layers (evaluation mode: the running
+    statistics) are folded into the linear layer after each: W diag(a), b + W d."""
     import torch.nn as nn
 
     from stable_baselines3.common.torch_layers import FlattenExtractor
@@ -103,7 +119,7 @@ def export_arrays(model, obs_rms=None, clip_obs: float = 10.0, epsilon: float = 
         raise ValueError(f"no portable path for a {type(extractor).__name__} features extractor (Flatten only)")
     if getattr(model, "use_sde", False):
         raise ValueError("no portable path for a policy trained with gSDE (use_sde=True)")
-    if name == "SACPolicy":
+    if name in ("SACPolicy", "TQCPolicy", "CrossQPolicy"):
         seq, out, kind = pol.actor.latent_pi, pol.actor.mu, "sac"
     elif name in ("ActorCriticPolicy", "RecurrentActorCriticPolicy"):
         seq, out = pol.mlp_extractor.policy_net, pol.action_net
@@ -115,24 +131,40 @@ def export_arrays(model, obs_rms=None, clip_obs: float = 10.0, epsilon: float = 
             for key in ("weight_ih_l0", "weight_hh_l0", "bias_ih_l0", "bias_hh_l0"):
                 arrays[f"lstm_{key}"] = getattr(lstm, key).detach().cpu().double().numpy()
     else:
-        raise ValueError(f"no portable path for {name}: PPO, SAC and RecurrentPPO with MLP policies are supported")
+        raise ValueError(f"no portable path for {name}: PPO, SAC, RecurrentPPO, TQC and CrossQ with MLP policies are "
+                         "supported")
+    from sb3_contrib.common.torch_layers import BatchRenorm
+
     layers = list(seq)
     k = 0
+    pending = None                       # a batch-renormalisation to fold into the next linear layer
+
+    def linear(layer) -> tuple[np.ndarray, np.ndarray]:
+        w, b = layer.weight.detach().cpu().double().numpy(), layer.bias.detach().cpu().double().numpy()
+        if pending is None:
+            return w, b
+        a, d = pending
+        return w * a[None, :], b + w @ d
+
     for i, layer in enumerate(layers):
+        if isinstance(layer, BatchRenorm):
+            if pending is not None:
+                raise ValueError(f"two batch-renormalisation layers in a row at layer {i}")
+            pending = _renorm_affine(layer)
+            continue
         if not isinstance(layer, nn.Linear):
             continue
         act = layers[i + 1] if i + 1 < len(layers) else None
         act_name = {nn.Tanh: "tanh", nn.ReLU: "relu"}.get(type(act))
         if act_name is None:
             raise ValueError(f"unsupported activation after layer {i}: {type(act).__name__}")
-        arrays[f"hidden_{k}_w"] = layer.weight.detach().cpu().double().numpy()
-        arrays[f"hidden_{k}_b"] = layer.bias.detach().cpu().double().numpy()
+        arrays[f"hidden_{k}_w"], arrays[f"hidden_{k}_b"] = linear(layer)
+        pending = None
         arrays[f"hidden_{k}_activation"] = np.array(ACTIVATIONS[act_name])
         k += 1
     if not isinstance(out, nn.Linear):
         raise ValueError(f"no portable path for an action head of type {type(out).__name__}")
-    arrays["out_w"] = out.weight.detach().cpu().double().numpy()
-    arrays["out_b"] = out.bias.detach().cpu().double().numpy()
+    arrays["out_w"], arrays["out_b"] = linear(out)
     arrays["kind"] = np.array(kind)
     arrays["action_low"] = np.asarray(model.action_space.low, dtype=np.float64)
     arrays["action_high"] = np.asarray(model.action_space.high, dtype=np.float64)

@@ -99,3 +99,25 @@ def test_an_export_of_other_model_files_is_not_used(tmp_path):
     a, _ = fresh.predict(obs[:1])
     b, _ = torch_policy.predict(obs[:1])
     assert float(np.max(np.abs(a - b))) <= TOLERANCE
+
+
+@pytest.mark.parametrize("algo", ["tqc", "crossq"])
+def test_tqc_and_crossq_actors_are_portable(algo):
+    """TQC's actor is SAC's; CrossQ's batch-renormalisation layers are folded into the linear layers
+    at export. After a little training (CrossQ's running statistics move off their start), the
+    portable actions match torch's to float32 precision (the folding reorders float64 sums, far
+    below float32's spacing)."""
+    import sb3_contrib
+    from stable_baselines3.common.vec_env import DummyVecEnv
+    cls = {"tqc": sb3_contrib.TQC, "crossq": sb3_contrib.CrossQ}[algo]
+    env = DummyVecEnv([lambda: BearingPreloadEnv(tier="paper", episode_steps=40)])
+    model = cls("MlpPolicy", env, seed=0, device="cpu", learning_starts=50, batch_size=32,
+                policy_kwargs={"net_arch": [32, 32]})
+    model.learn(200)
+    if algo == "crossq":
+        assert float(model.policy.actor.latent_pi[0].ra_mean.abs().sum()) > 0       # the statistics moved
+    portable = PortablePolicy(export_arrays(model))
+    obs = np.random.default_rng(0).uniform(-2, 2, (50, 15)).astype(np.float32)
+    a_t, _ = model.predict(obs, deterministic=True)
+    a_p, _ = portable.predict(obs)
+    assert np.max(np.abs(a_t - a_p)) <= TOLERANCE and len(np.unique(a_p)) > 10
