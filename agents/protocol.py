@@ -35,7 +35,7 @@ __all__ = ["PROTOCOL_VERSION", "TRAIN", "VALIDATION", "TIER_DESIGN", "TEST", "RE
            "VALIDATION_GRID_STEP_N", "CONTEXTUAL_GRID_STEP_N", "ALGORITHMS", "HEADLINE_ALGORITHM",
            "HEADLINE_SEEDS", "OTHER_SEEDS", "RUN_SEED_STRIDE", "STEP_BUDGET_PER_RUN",
            "STEP_BUDGET_CHOSEN_FROM_THROUGHPUT", "VALIDATION_EPISODES_IN_TRAINING", "VALIDATION_EVERY_STEPS",
-           "TUNING_TRIALS", "TUNING_STEPS", "TUNING_VALIDATION_EPISODES", "TUNING_STARTUP_TRIALS",
+           "SCHEDULE_FIT_EPISODES", "SCHEDULE_FIT_SEED", "SCHEDULE_FIT_ROUNDS", "TUNING_TRIALS", "TUNING_STEPS", "TUNING_VALIDATION_EPISODES", "TUNING_STARTUP_TRIALS",
            "TUNING_PRUNE_AFTER_STEPS", "TUNING_LAST_VALIDATIONS", "TUNING_SAMPLER_SEED", "TUNING_TRAIN_SEED",
            "training_seeds", "held_out_seeds", "validation_seeds", "episodes_for_tier",
            "preload_grid", "check_protocol"]
@@ -102,6 +102,15 @@ RUN_SEED_STRIDE = 1_000
 STEP_BUDGET_PER_RUN = 100_000
 STEP_BUDGET_CHOSEN_FROM_THROUGHPUT = True
 
+
+# -- the speed schedules (agents.references.speed_schedule_fit), fitted on training seeds -----------
+#: The spindle makers' practice as baselines: 2- and 3-level speed switches and a speed table,
+#: each fitted by coordinate ascent (SCHEDULE_FIT_ROUNDS rounds over its thresholds and levels, the
+#: CONTEXTUAL_GRID_STEP_N preload grid) of the mean return on the contextual fit's training
+#: scenarios (the same data the contextual constant is fitted on).
+SCHEDULE_FIT_EPISODES = 50
+SCHEDULE_FIT_SEED = CONTEXTUAL_FIT_SEED
+SCHEDULE_FIT_ROUNDS = 2
 
 # -- protocol v2's hyperparameter search (agents.training.tuning), fixed before any trial ----------
 #: Per algorithm (agents.training.search_spaces.ALGORITHMS) the same budget: TUNING_TRIALS trials of
