@@ -288,14 +288,16 @@ def main(argv: list[str] | None = None) -> int:
     else:
         if args.resume:
             print(f"no checkpoint in {ckpt_dir}: starting a new run")
-        env = VecNormalize(env, norm_obs=True, norm_reward=True, clip_obs=10.0)
+        hp = hyperparams(args.algo)
+        # the return it normalises rewards by: the algorithm's discount (as RL Zoo does)
+        env = VecNormalize(env, norm_obs=True, norm_reward=True, clip_obs=10.0, gamma=hp.get("gamma", 0.99))
         try:
             import tensorboard  # noqa: F401
             tb = str(out / "tensorboard")
         except ImportError:
             tb = None
         model = algo_cls(policy, env, seed=args.seed, device="cpu", verbose=0,
-                         tensorboard_log=tb, **hyperparams(args.algo))
+                         tensorboard_log=tb, **hp)
     tb_dir = Path(model.tensorboard_log) if model.tensorboard_log else None
     eval_env = VecNormalize(eval_env, norm_obs=True, norm_reward=False, training=False)
     per_env = max(1, args.n_envs)

@@ -18,15 +18,15 @@ from __future__ import annotations
 import numpy as np
 
 from bearing_gym.envs.actuator import PreloadActuator
-from bearing_gym.envs.observation import FEATURE_NAMES
+from bearing_gym.envs.observation import FEATURE_NAMES, ObservationModel
 
 from agents.policies.scripted import Policy
 
 __all__ = ["SpeedSchedule", "SPEED_SCALE_RPM"]
 
 _SPEED = FEATURE_NAMES.index("shaft_speed")
-#: the observation's shaft-speed scaling (feature / 25,000 rpm)
-SPEED_SCALE_RPM = 25000.0
+#: the observation's shaft-speed scaling (the feature is the speed / this), the sensor model's
+SPEED_SCALE_RPM = ObservationModel.speed_scale_rpm
 
 
 class SpeedSchedule(Policy):
@@ -51,8 +51,7 @@ class SpeedSchedule(Policy):
         self.thresholds_rpm = tuple(float(x) for x in t)
         self.levels_n = tuple(float(x) for x in levels_n)
         self.interpolate = bool(interpolate)
-        kind = "table" if self.interpolate else f"{len(self.levels_n)}-level switch"
-        self.name = f"speed schedule ({kind})"
+        self.name = "speed table" if self.interpolate else f"speed switch ({len(self.levels_n)} levels)"
 
     def preload_n(self, speed_rpm: np.ndarray) -> np.ndarray:
         """The schedule's preload (N) at each speed (rpm): arithmetic only (no libm), as

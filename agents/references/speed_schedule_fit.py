@@ -1,7 +1,7 @@
 """Fitting the spindle makers' speed schedules (:mod:`agents.policies.speed_schedule`) on
 training seeds: coordinate ascent of the mean return.
 
-    python -m agents.references.speed_schedule_fit --tier transient --kind 2-level    # agents/data/speed_schedule_<tier>.json
+    python -m agents.references.speed_schedule_fit --tier transient --kind 2-level    # agents/data/speed_schedule_<tier>_<kind>.json
 
 Each ``kind`` starts from the tier's validation constant at every level, then, ``rounds`` times,
 sets one coordinate at a time - a threshold among ``THRESHOLD_CANDIDATES_RPM`` (kept increasing),

@@ -14,7 +14,7 @@ def test_a_switch_changes_level_at_its_thresholds():
     obs[:, 11] = np.array([12000, 21000]) / SPEED_SCALE_RPM
     a, _ = s.predict(obs)
     np.testing.assert_allclose(300 + (a[:, 0] + 1) / 2 * 1700, [1600, 500], rtol=0, atol=1e-3)
-    assert s.name == "speed schedule (3-level switch)"
+    assert s.name == "speed switch (3 levels)"
 
 
 def test_a_table_is_linear_between_knots_and_held_beyond():
