@@ -46,7 +46,7 @@ require_extra("train.py")        # the rl extra: SB3, sb3-contrib, torch (before
 
 from agents.paths import start_bank_path  # noqa: E402
 from agents.training.setup import hyperparams, load_start_bank, make_env  # noqa: E402,F401 (train.<name> for tests)
-from agents.protocol import STEP_BUDGET_PER_RUN, TEST, VALIDATION, VALIDATION_EPISODES_IN_TRAINING, VALIDATION_EVERY_STEPS  # noqa: E402
+from agents.protocol import PROTOCOL_VERSION, STEP_BUDGET_PER_RUN, TEST, VALIDATION, VALIDATION_EPISODES_IN_TRAINING, VALIDATION_EVERY_STEPS  # noqa: E402
 from bearing_gym.task import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES  # noqa: E402
 
 PROGRESS_EVERY_S = 30.0     # at most one progress line per this many seconds
@@ -288,14 +288,18 @@ def main(argv: list[str] | None = None) -> int:
     else:
         if args.resume:
             print(f"no checkpoint in {ckpt_dir}: starting a new run")
-        env = VecNormalize(env, norm_obs=True, norm_reward=True, clip_obs=10.0)
+        hp = hyperparams(args.algo)
+        # the return it normalises rewards by: from protocol v2 on the algorithm's discount (as RL Zoo
+        # does, and protocol v2's search); protocol v1's runs used SB3's default 0.99
+        env = VecNormalize(env, norm_obs=True, norm_reward=True, clip_obs=10.0,
+                           gamma=hp.get("gamma", 0.99) if PROTOCOL_VERSION >= 2 else 0.99)
         try:
             import tensorboard  # noqa: F401
             tb = str(out / "tensorboard")
         except ImportError:
             tb = None
         model = algo_cls(policy, env, seed=args.seed, device="cpu", verbose=0,
-                         tensorboard_log=tb, **hyperparams(args.algo))
+                         tensorboard_log=tb, **hp)
     tb_dir = Path(model.tensorboard_log) if model.tensorboard_log else None
     eval_env = VecNormalize(eval_env, norm_obs=True, norm_reward=False, training=False)
     per_env = max(1, args.n_envs)

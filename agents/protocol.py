@@ -35,8 +35,8 @@ __all__ = ["PROTOCOL_VERSION", "TRAIN", "VALIDATION", "TIER_DESIGN", "TEST", "RE
            "VALIDATION_GRID_STEP_N", "CONTEXTUAL_GRID_STEP_N", "ALGORITHMS", "HEADLINE_ALGORITHM",
            "HEADLINE_SEEDS", "OTHER_SEEDS", "RUN_SEED_STRIDE", "STEP_BUDGET_PER_RUN",
            "STEP_BUDGET_CHOSEN_FROM_THROUGHPUT", "VALIDATION_EPISODES_IN_TRAINING", "VALIDATION_EVERY_STEPS",
-           "TUNING_TRIALS", "TUNING_STEPS", "TUNING_VALIDATION_EPISODES", "TUNING_STARTUP_TRIALS",
-           "TUNING_PRUNE_AFTER_STEPS", "TUNING_LAST_VALIDATIONS", "TUNING_SAMPLER_SEED", "TUNING_TRAIN_SEED",
+           "SCHEDULE_FIT_EPISODES", "SCHEDULE_FIT_SEED", "SCHEDULE_FIT_ROUNDS", "TUNING_TRIALS", "TUNING_STEPS", "TUNING_VALIDATION_EPISODES", "TUNING_STARTUP_TRIALS",
+           "TUNING_PRUNE_AFTER_STEPS", "TUNING_LAST_VALIDATIONS", "TUNING_SAMPLER_SEED", "TUNING_RANDOM_TRIALS", "TUNING_TRAIN_SEED",
            "training_seeds", "held_out_seeds", "validation_seeds", "episodes_for_tier",
            "preload_grid", "check_protocol"]
 
@@ -103,14 +103,24 @@ STEP_BUDGET_PER_RUN = 100_000
 STEP_BUDGET_CHOSEN_FROM_THROUGHPUT = True
 
 
+# -- the speed schedules (agents.references.speed_schedule_fit), fitted on training seeds -----------
+#: The spindle makers' practice as baselines: 2- and 3-level speed switches and a speed table,
+#: each fitted by coordinate ascent (SCHEDULE_FIT_ROUNDS rounds over its thresholds and levels, the
+#: CONTEXTUAL_GRID_STEP_N preload grid) of the mean return on the contextual fit's training
+#: scenarios (the same data the contextual constant is fitted on).
+SCHEDULE_FIT_EPISODES = 50
+SCHEDULE_FIT_SEED = CONTEXTUAL_FIT_SEED
+SCHEDULE_FIT_ROUNDS = 2
+
 # -- protocol v2's hyperparameter search (agents.training.tuning), fixed before any trial ----------
 #: Per algorithm (agents.training.search_spaces.ALGORITHMS) the same budget: TUNING_TRIALS trials of
 #: at most TUNING_STEPS env steps on the benchmark's tier, validated every VALIDATION_EVERY_STEPS
 #: on TUNING_VALIDATION_EPISODES validation episodes (seeds VALIDATION.start on, whose references
 #: the store holds: the test seeds tune nothing); optuna's median pruner stops a trial whose score
-#: falls below the median of the earlier trials at the same step, from the TUNING_STARTUP_TRIALS-th
-#: trial on and after TUNING_PRUNE_AFTER_STEPS steps; TPE sampler seeded TUNING_SAMPLER_SEED
-#: (multivariate). A trial's score: the IQM of its normalised validation scores (0 the validation
+#: falls below the median of the earlier trials at the same step, once TUNING_STARTUP_TRIALS trials
+#: have completed and after TUNING_PRUNE_AFTER_STEPS steps (never at a trial's last validation);
+#: TPE sampler (multivariate) seeded TUNING_SAMPLER_SEED + the trials so far, its first
+#: TUNING_RANDOM_TRIALS draws at random. A trial's score: the IQM of its normalised validation scores (0 the validation
 #: constant, 1 the hindsight constant, the board's floor); its objective the mean of its last
 #: TUNING_LAST_VALIDATIONS scores. Trial k trains with seed TUNING_TRAIN_SEED + k * RUN_SEED_STRIDE
 #: (inside TRAIN, apart from the protocol's runs and the contextual fit). 16 x 60k = 0.96 M env
@@ -122,6 +132,8 @@ TUNING_STARTUP_TRIALS = 5
 TUNING_PRUNE_AFTER_STEPS = 20_000
 TUNING_LAST_VALIDATIONS = 3
 TUNING_SAMPLER_SEED = 0
+#: TPE draws this many trials at random before it models the results
+TUNING_RANDOM_TRIALS = 5
 TUNING_TRAIN_SEED = TRAIN.start + 20_000
 
 

@@ -133,7 +133,9 @@ def export_arrays(model, obs_rms=None, clip_obs: float = 10.0, epsilon: float = 
     else:
         raise ValueError(f"no portable path for {name}: PPO, SAC, RecurrentPPO, TQC and CrossQ with MLP policies are "
                          "supported")
-    from sb3_contrib.common.torch_layers import BatchRenorm
+    BatchRenorm = type(None)                   # noqa: N806 - a class no layer is, unless CrossQ's is loaded
+    if name == "CrossQPolicy":
+        from sb3_contrib.common.torch_layers import BatchRenorm
 
     layers = list(seq)
     k = 0

@@ -6,13 +6,17 @@
 
 One optuna study per algorithm (``protocol<V>-<algo>``) in an optuna storage (default
 ``sqlite:///runs/tuning/tuning.db``; any RDB URL, so several processes or machines can work on one
-study), the budget of :mod:`agents.protocol` (``TUNING_*``: trials, steps, validation episodes,
-pruner, sampler seed), the search spaces of :mod:`agents.training.search_spaces`. A trial trains
+study; sqlite for the processes of one machine, a server database - PostgreSQL, say - for
+several machines), the budget of :mod:`agents.protocol` (``TUNING_*``: trials, steps, validation
+episodes, pruner, sampler seed; the sampler reseeded with the trials done, so a resumed or
+parallel process does not replay draws), the search spaces of :mod:`agents.training.search_spaces`. A trial trains
 as a protocol run does (the shipped start bank, ``N_ENVS`` envs, VecNormalize), validates every
 ``VALIDATION_EVERY_STEPS`` env steps on ``TUNING_VALIDATION_EPISODES`` validation episodes and
 reports the IQM of their normalised scores (0: the validation constant, 1: the hindsight constant,
 the board's denominator floor: :func:`validation_score`); optuna's median pruner may stop it
-there. Its value: the mean of its last ``TUNING_LAST_VALIDATIONS`` scores. A trial interrupted
+there (never at its last validation). Its value: the mean of its last ``TUNING_LAST_VALIDATIONS``
+scores. Its training seed: ``TUNING_TRAIN_SEED`` + its slot in the budget (:func:`trial_slot`)
+x ``RUN_SEED_STRIDE``. The training env's reward normalisation uses the trial's gamma (as RL Zoo). A trial interrupted
 (``--until`` stops starting trials, not a running one) is failed by optuna's heartbeat check
 (the storage's ``heartbeat_interval``/``grace_period``) on the next start and its slot run again. ``--export`` writes every trial (parameters,
 intermediate scores, value, state, wall time), the spaces and the budget to
@@ -33,14 +37,15 @@ import numpy as np
 from bearing_gym.task import DEFAULT_TIER, EPISODE_STEPS
 
 from agents import protocol as P
-from agents.paths import PACKAGE_DIR, runs_dir
+from agents.paths import HYPERPARAMS_DIR, PACKAGE_DIR, runs_dir
 from agents.training import search_spaces as S
 
-__all__ = ["study_name", "validation_score", "objective", "run", "export", "main", "TUNING_DIR", "CHOSEN_DIR"]
+__all__ = ["study_name", "validation_score", "trial_slot", "objective", "run", "export", "yaml_number", "main", "TUNING_DIR",
+           "CHOSEN_DIR"]
 
 #: the committed tuning logs and the chosen hyperparameters
 TUNING_DIR = PACKAGE_DIR / "tuning"
-CHOSEN_DIR = PACKAGE_DIR / "hyperparams" / "v2"
+CHOSEN_DIR = HYPERPARAMS_DIR / "v2"
 
 
 def study_name(algo: str) -> str:
@@ -62,14 +67,37 @@ def _storage(url: str):
     return optuna.storages.RDBStorage(url, heartbeat_interval=60, grace_period=300)
 
 
+def _sampler(trials_so_far: int):
+    """TPE, seeded by the trials the study already holds: a resumed or parallel process draws
+    on, instead of replaying the seed's first draws."""
+    import optuna
+    return optuna.samplers.TPESampler(seed=P.TUNING_SAMPLER_SEED + trials_so_far, multivariate=True,
+                                      n_startup_trials=P.TUNING_RANDOM_TRIALS)
+
+
 def _study(algo: str, storage: str):
     import optuna
-    return optuna.create_study(
+    study = optuna.create_study(
         study_name=study_name(algo), storage=_storage(storage), direction="maximize", load_if_exists=True,
-        sampler=optuna.samplers.TPESampler(seed=P.TUNING_SAMPLER_SEED, multivariate=True),
+        sampler=_sampler(0),
         pruner=optuna.pruners.MedianPruner(n_startup_trials=P.TUNING_STARTUP_TRIALS,
                                            n_warmup_steps=P.TUNING_PRUNE_AFTER_STEPS,
                                            interval_steps=P.VALIDATION_EVERY_STEPS))
+    optuna.storages.fail_stale_trials(study)      # a killed process's trial: its heartbeat stopped
+    return study
+
+
+def trial_slot(trial) -> int:
+    """The trial's place in the budget: the study's trials before it that did not fail (so a failed
+    or interrupted trial's slot, and its training seed, go to the next one); ValueError past the
+    budget (its seed would leave the block the protocol keeps for tuning)."""
+    import optuna
+    before = [t for t in trial.study.get_trials(deepcopy=False)
+              if t.number < trial.number and t.state != optuna.trial.TrialState.FAIL]
+    slot = len(before)
+    if slot >= P.TUNING_TRIALS:
+        raise ValueError(f"trial {trial.number} would be the {slot + 1}th of a budget of {P.TUNING_TRIALS}")
+    return slot
 
 
 def objective(trial, algo: str, steps: int, validation_episodes: int, tier: str = DEFAULT_TIER,
@@ -92,11 +120,11 @@ def objective(trial, algo: str, steps: int, validation_episodes: int, tier: str 
     hp = {**S.sample(trial, algo), **(overrides or {})}           # overrides: tests' tiny sizes only
     module, cls_name = ALGORITHM_CLASSES[algo]
     cls = getattr(importlib.import_module(module), cls_name)
-    seed = P.TUNING_TRAIN_SEED + trial.number * P.RUN_SEED_STRIDE
+    seed = P.TUNING_TRAIN_SEED + (trial_slot(trial) if hasattr(trial, "study") else trial.number) * P.RUN_SEED_STRIDE
     bank_path = start_bank_path(tier)
     bank = load_start_bank(bank_path, tier, EPISODE_STEPS) if bank_path.exists() else None
     env = VecNormalize(make_env(S.N_ENVS, seed, EPISODE_STEPS, tier, threads, bank), norm_obs=True, norm_reward=True,
-                       clip_obs=10.0)
+                       clip_obs=10.0, gamma=hp["gamma"])          # the return it normalises by: the trial's gamma
     eval_env = VecNormalize(make_env(validation_episodes, P.VALIDATION.start, EPISODE_STEPS, tier, threads),
                             norm_obs=True, norm_reward=False, training=False)
     seeds = list(range(P.VALIDATION.start, P.VALIDATION.start + validation_episodes))
@@ -114,7 +142,7 @@ def objective(trial, algo: str, steps: int, validation_episodes: int, tier: str 
                 scores.append(validation_score(np.asarray(self.per_seed_returns[-1]), r0, r1))
                 trial.report(scores[-1], int(self.num_timesteps))
                 trial.set_user_attr("scores", scores)
-                if trial.should_prune():
+                if self.num_timesteps < steps and trial.should_prune():     # never at the budget's end
                     self.pruned = True
                     return False
             return keep_going
@@ -135,9 +163,12 @@ def objective(trial, algo: str, steps: int, validation_episodes: int, tier: str 
     return float(np.mean(scores[-P.TUNING_LAST_VALIDATIONS:]))
 
 
-def _finished(study) -> int:
+def _finished(study, running: bool = False) -> int:
+    """Trials complete or pruned (and running, with ``running``: what parallel workers have taken)."""
     import optuna
-    return sum(t.state in (optuna.trial.TrialState.COMPLETE, optuna.trial.TrialState.PRUNED) for t in study.trials)
+    states = (optuna.trial.TrialState.COMPLETE, optuna.trial.TrialState.PRUNED) + \
+        ((optuna.trial.TrialState.RUNNING,) if running else ())
+    return sum(t.state in states for t in study.get_trials(deepcopy=False))
 
 
 def run(algo: str, storage: str, until: float | None = None, trials: int = P.TUNING_TRIALS,
@@ -146,17 +177,20 @@ def run(algo: str, storage: str, until: float | None = None, trials: int = P.TUN
     """Run trials of ``algo``'s study until it has ``trials`` finished (complete or pruned) or
     the clock passes ``until`` (epoch seconds) - a trial is started only if ``estimate_s`` (default:
     the slowest finished trial's wall time, else none) fits before it; returns the trials run."""
-    study = _study(algo, storage)                # a killed trial's heartbeat stops: optuna fails it, its slot runs again
+    import optuna
+    study = _study(algo, storage)
     ran = 0
-    while _finished(study) < trials:
+    while _finished(study, running=True) < trials:
         walls = [t.user_attrs.get("wall_s", 0.0) for t in study.trials if "wall_s" in t.user_attrs]
         need = estimate_s if estimate_s is not None else (max(walls) if walls else 0.0)
         if until is not None and time.time() + need > until:
             print(f"{study_name(algo)}: the next trial (~{need / 60:.0f} min) would not end by the deadline: "
                   f"stopping with {_finished(study)}/{trials} done", flush=True)
             break
+        study.sampler = _sampler(len(study.trials))
         study.optimize(lambda tr: objective(tr, algo, steps, validation_episodes, threads=threads, **objective_kw),
                        n_trials=1, catch=())
+        optuna.storages.fail_stale_trials(study)
         ran += 1
         last = study.trials[-1]
         print(f"{study_name(algo)}: trial {last.number} {last.state.name.lower()}, value {last.value}, "
@@ -185,6 +219,15 @@ def export(algo: str, storage: str, trials: int = P.TUNING_TRIALS, out_dir: Path
     return out
 
 
+def yaml_number(v: Any) -> str:
+    """``v`` as YAML reads it back: a float's mantissa with a point (PyYAML reads ``1e-05`` as a
+    string, ``1.0e-05`` as a float)."""
+    r = repr(v)
+    if isinstance(v, float) and "e" in r and "." not in r.split("e")[0]:
+        r = r.replace("e", ".0e")
+    return r
+
+
 def _write_yml(path: Path, algo: str, hp: dict[str, Any], best) -> None:
     """``hp`` as an RL Zoo file (``policy_kwargs`` as RL Zoo's string)."""
     lines = [f"# Protocol v{P.PROTOCOL_VERSION}'s {algo}: the best trial ({best.number}, value {best.value:.4f}) of "
@@ -197,7 +240,7 @@ def _write_yml(path: Path, algo: str, hp: dict[str, Any], best) -> None:
             v = "dict(" + ", ".join(f"{kk}={vv!r}" for kk, vv in v.items()) + ")"
             lines.append(f'  policy_kwargs: "{v}"')
         else:
-            lines.append(f"  {k}: {v!r}")
+            lines.append(f"  {k}: {yaml_number(v)}")
     path.parent.mkdir(parents=True, exist_ok=True)
     path.write_text("\n".join(lines) + "\n")
 
@@ -212,18 +255,21 @@ def main(argv: list[str] | None = None) -> int:
     ap.add_argument("--status", action="store_true", help="the trials so far; runs nothing")
     ap.add_argument("--export", action="store_true", help="write agents/tuning/<algo>.json (and the chosen yml)")
     a = ap.parse_args(argv)
-    if a.status or a.export:
-        path = export(a.algo, a.storage)
-        data = json.loads(path.read_text())
-        for t in data["trials"]:
-            print(f"trial {t['number']:3d} {t['state']:9s} value {t['value']} {t['params']}")
-        print(f"wrote {path}")
+    if a.status:
+        import optuna
+        for t in optuna.load_study(study_name=study_name(a.algo), storage=_storage(a.storage)).trials:
+            print(f"trial {t.number:3d} {t.state.name:9s} value {t.value} {t.params}")
+        return 0
+    if a.export:
+        print(f"wrote {export(a.algo, a.storage)}")
         return 0
     until = None
     if a.until:
         hh, mm = (int(x) for x in a.until.split(":"))
         lt = time.localtime()
         until = time.mktime((lt.tm_year, lt.tm_mon, lt.tm_mday, hh, mm, 0, 0, 0, -1))
+        if until <= time.time():                  # a time already past today: tomorrow's
+            until += 24 * 3600
     run(a.algo, a.storage, until, threads=a.threads)
     export(a.algo, a.storage)
     return 0

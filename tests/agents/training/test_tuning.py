@@ -22,6 +22,9 @@ def test_a_tiny_study_runs_to_its_budget_and_exports_every_trial(tmp_path, monke
     storage = f"sqlite:///{tmp_path / 'tuning.db'}"
     assert tuning.run("sac", storage, trials=2, **TINY) == 2
     assert tuning.run("sac", storage, trials=2, **TINY) == 0                  # resumed: the budget is done
+    first = json.loads(tuning.export("sac", storage, trials=2, out_dir=tmp_path / "t0", chosen_dir=tmp_path / "c0")
+                       .read_text())["trials"]
+    assert first[0]["params"] != first[1]["params"]
     out = tuning.export("sac", storage, trials=2, out_dir=tmp_path / "tuning", chosen_dir=tmp_path / "v2")
     data = json.loads(out.read_text())
     assert data["study"] == f"protocol{P.PROTOCOL_VERSION}-sac" and data["budget"]["TUNING_TRIALS"] == P.TUNING_TRIALS
@@ -46,6 +49,31 @@ def test_a_trial_below_the_median_is_pruned_at_its_validation(tmp_path):
                      "tau": 0.02})
     with pytest.raises(optuna.TrialPruned, match="pruned at 100 steps"):
         tuning.objective(trial, "sac", out_dir=tmp_path, **TINY)
+
+
+def test_a_resumed_study_draws_on_instead_of_replaying_its_first_trials(tmp_path, monkeypatch):
+    monkeypatch.setattr(tuning, "runs_dir", lambda *p: tmp_path.joinpath("runs", *p))
+    storage = f"sqlite:///{tmp_path / 'tuning.db'}"
+    tuning.run("ppo", storage, trials=1, **{**TINY, "steps": 100, "overrides": {"n_steps": 64, "batch_size": 64}})
+    tuning.run("ppo", storage, trials=2, **{**TINY, "steps": 100, "overrides": {"n_steps": 64, "batch_size": 64}})
+    study = optuna.load_study(study_name=tuning.study_name("ppo"), storage=storage)
+    a, b = study.trials
+    assert a.params != b.params and b.user_attrs["seed"] == P.TUNING_TRAIN_SEED + P.RUN_SEED_STRIDE
+
+
+def test_a_trial_is_not_pruned_at_its_last_validation(tmp_path):
+    class Pruning(optuna.trial.FixedTrial):
+        def should_prune(self) -> bool:
+            return True
+    trial = Pruning({"utd": 0.25, "net_arch": "64x64", "learning_rate": 3e-4, "gamma": 0.95, "batch_size": 128,
+                     "tau": 0.02})
+    value = tuning.objective(trial, "sac", out_dir=tmp_path, **{**TINY, "steps": 100})
+    assert np.isfinite(value)
+
+
+def test_the_chosen_file_writes_floats_that_yaml_reads_as_floats():
+    for v in (1e-05, 5e-05, 0.0003, 2.5e-4, 1234.5):
+        assert yaml.safe_load(tuning.yaml_number(v)) == v
 
 
 def test_the_validation_score_is_the_iqm_of_the_normalised_scores():

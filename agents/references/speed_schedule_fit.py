@@ -1,0 +1,140 @@
+"""Fitting the spindle makers' speed schedules (:mod:`agents.policies.speed_schedule`) on
+training seeds: coordinate ascent of the mean return.
+
+    python -m agents.references.speed_schedule_fit --tier transient --kind 2-level    # agents/data/speed_schedule_<tier>_<kind>.json
+
+Each ``kind`` starts from the tier's validation constant at every level, then, ``rounds`` times,
+sets one coordinate at a time - a threshold among ``THRESHOLD_CANDIDATES_RPM`` (kept increasing),
+a level on the ``grid_step_n`` preload grid - to the candidate with the best mean return on the
+fit episodes, the others held (ties keep the current value, then the first candidate). Every
+candidate of a coordinate runs in one batch (:func:`agents.evaluation.episodes.run_policies`).
+A coordinate ascent, not a global search: what a practitioner tuning one switch at a time on
+recorded cycles would find. Kinds: ``2-level`` (one threshold), ``3-level`` (two), ``table``
+(a level at each of ``TABLE_KNOTS_RPM``, linear between).
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import time
+from pathlib import Path
+from typing import Any, Callable
+
+import numpy as np
+
+from bearing_gym.task import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
+
+from agents import protocol as P
+from agents.evaluation.episodes import run_policies
+from agents.paths import DATA_DIR
+from agents.policies.speed_schedule import SpeedSchedule
+
+__all__ = ["KINDS", "THRESHOLD_CANDIDATES_RPM", "TABLE_KNOTS_RPM", "initial", "fit_schedule", "schedule_path",
+           "main"]
+
+KINDS = ("2-level", "3-level", "table")
+#: where a switch may sit (rpm): the tiers' speeds are 10,000-25,000 rpm
+THRESHOLD_CANDIDATES_RPM = (12500.0, 15000.0, 17500.0, 20000.0, 22500.0)
+#: the table's knots (rpm)
+TABLE_KNOTS_RPM = (10000.0, 12500.0, 15000.0, 17500.0, 20000.0, 22500.0, 25000.0)
+
+
+def initial(kind: str, level_n: float) -> SpeedSchedule:
+    """The starting schedule of ``kind``: every level ``level_n``, the switches at the middle."""
+    if kind == "2-level":
+        return SpeedSchedule((17500.0,), (level_n, level_n))
+    if kind == "3-level":
+        return SpeedSchedule((15000.0, 20000.0), (level_n,) * 3)
+    if kind == "table":
+        return SpeedSchedule(TABLE_KNOTS_RPM, (level_n,) * len(TABLE_KNOTS_RPM), interpolate=True)
+    raise ValueError(f"kind must be one of {', '.join(KINDS)}, got {kind!r}")
+
+
+def _coordinates(s: SpeedSchedule) -> list[str]:
+    """The coordinates of ``s`` in the order the ascent sets them: the thresholds, then the levels."""
+    return ([f"threshold {k}" for k in range(len(s.thresholds_rpm))] if not s.interpolate else []) + \
+        [f"level {k}" for k in range(len(s.levels_n))]
+
+
+def _variants(s: SpeedSchedule, coord: str, grid: tuple[float, ...]) -> list[SpeedSchedule]:
+    """``s`` with the coordinate ``coord`` at each of its candidates (thresholds kept increasing)."""
+    kind, k = coord.split()[0], int(coord.split()[1])
+    if kind == "threshold":
+        t = s.thresholds_rpm
+        lo = t[k - 1] if k else -np.inf
+        hi = t[k + 1] if k + 1 < len(t) else np.inf
+        return [SpeedSchedule(t[:k] + (c,) + t[k + 1:], s.levels_n) for c in THRESHOLD_CANDIDATES_RPM if lo < c < hi]
+    return [SpeedSchedule(s.thresholds_rpm, s.levels_n[:k] + (p,) + s.levels_n[k + 1:], s.interpolate) for p in grid]
+
+
+def _same(a: SpeedSchedule, b: SpeedSchedule) -> bool:
+    return a.to_json() == b.to_json()
+
+
+def fit_schedule(tier: str, kind: str, episodes: int = P.SCHEDULE_FIT_EPISODES, seed: int = P.SCHEDULE_FIT_SEED,
+                 episode_steps: int = EPISODE_STEPS, grid_step_n: float = P.CONTEXTUAL_GRID_STEP_N,
+                 rounds: int = P.SCHEDULE_FIT_ROUNDS, start_n: float | None = None,
+                 progress: Callable[[str], None] | None = print,
+                 evaluate: Callable[[list[SpeedSchedule]], np.ndarray] | None = None,
+                 **run_kw: Any) -> tuple[SpeedSchedule, dict[str, Any]]:
+    """The fitted schedule of ``kind`` on ``tier`` and its record (module docstring). ``evaluate``:
+    the mean return of each schedule (default: run them on the fit episodes); ``start_n``: the
+    starting level (default: the tier's stored validation constant)."""
+    if not (P.TRAIN.start <= seed and seed + episodes <= P.TRAIN.stop):
+        raise ValueError(f"fit seeds {seed}..{seed + episodes - 1} must be training seeds ({P.TRAIN.start}.."
+                         f"{P.TRAIN.stop - 1}): the schedule is fitted on training scenarios only")
+    if evaluate is None:
+        def evaluate(schedules: list[SpeedSchedule]) -> np.ndarray:
+            ran = run_policies(schedules, episodes, seed, episode_steps, env_kwargs={"tier": tier}, **run_kw)
+            return np.array([float(np.mean(r.returns)) for r in ran])
+    if start_n is None:
+        from agents.references.store import load_choice
+        start_n = load_choice(tier).preload_n
+    grid = P.preload_grid(grid_step_n)
+    start_n = min(grid, key=lambda p: abs(p - start_n))
+    s = initial(kind, start_n)
+    best = float(evaluate([s])[0])
+    history = [{"schedule": s.to_json(), "mean_return": best}]
+    t0 = time.time()
+    for r in range(rounds):
+        for coord in _coordinates(s):
+            cands = _variants(s, coord, grid)
+            if not cands:
+                continue
+            values = evaluate(cands)
+            k = int(np.argmax(values))
+            current = next((i for i, c in enumerate(cands) if _same(c, s)), None)
+            if current is not None and values[current] >= values[k]:
+                k = current
+            s, best = cands[k], float(values[k])
+            history.append({"round": r, "coordinate": coord, "schedule": s.to_json(), "mean_return": best})
+            if progress:
+                progress(f"speed schedule {kind} on {tier}: round {r + 1}/{rounds}, {coord}: "
+                         f"{s.to_json()['levels_n']} at {s.thresholds_rpm} rpm, mean return {best:.2f} "
+                         f"({(time.time() - t0) / 60:.1f} min)")
+    meta = {"tier": tier, "kind": kind, "seeds": [seed, seed + episodes - 1], "episode_steps": episode_steps,
+            "grid_step_n": grid_step_n, "rounds": rounds, "mean_return": best, "history": history,
+            "wall_s": time.time() - t0}
+    return s, meta
+
+
+def schedule_path(tier: str, kind: str, data_dir: Path = DATA_DIR) -> Path:
+    return data_dir / f"speed_schedule_{tier}_{kind}.json"
+
+
+def main(argv: list[str] | None = None) -> None:
+    ap = argparse.ArgumentParser(prog="python -m agents.references.speed_schedule_fit", description=__doc__.split("\n\n")[0])
+    ap.add_argument("--tier", choices=TIER_NAMES, default=DEFAULT_TIER)
+    ap.add_argument("--kind", choices=KINDS, required=True)
+    ap.add_argument("--out", help="output JSON (default agents/data/speed_schedule_<tier>_<kind>.json)")
+    a = ap.parse_args(argv)
+    from bearing_gym.envs.provenance import kernel_hash
+    s, meta = fit_schedule(a.tier, a.kind, episodes=P.episodes_for_tier(a.tier, P.SCHEDULE_FIT_EPISODES))
+    out = Path(a.out) if a.out else schedule_path(a.tier, a.kind)
+    out.write_text(json.dumps({"schedule": s.to_json(), **meta, "kernel_hash": kernel_hash()}, indent=1) + "\n")
+    print(f"wrote {out}: {s.name} {s.to_json()}")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,44 @@
+"""The speed schedules' fit: coordinate ascent finds the optimum of a separable objective, keeps
+the thresholds increasing, fits on training seeds only, and runs on the simulator."""
+
+import numpy as np
+import pytest
+
+from agents.references import speed_schedule_fit as F
+
+
+def synthetic(target_levels, target_thresholds):
+    """Mean return of each schedule: minus the squared distance of its levels and thresholds to
+    the targets (separable: coordinate ascent reaches the optimum in one round)."""
+    def evaluate(schedules):
+        return np.array([-sum((a - b) ** 2 for a, b in zip(s.levels_n, target_levels))
+                         - sum((a - b) ** 2 for a, b in zip(s.thresholds_rpm, target_thresholds)) for s in schedules])
+    return evaluate
+
+
+@pytest.mark.parametrize("kind,levels,thresholds", [
+    ("2-level", (1500.0, 800.0), (20000.0,)),
+    ("3-level", (1700.0, 1100.0, 500.0), (12500.0, 22500.0)),
+    ("table", (2000.0, 1900.0, 1500.0, 1200.0, 900.0, 700.0, 600.0), F.TABLE_KNOTS_RPM),
+])
+def test_coordinate_ascent_reaches_the_optimum_of_a_separable_objective(kind, levels, thresholds):
+    s, meta = F.fit_schedule("transient", kind, episodes=4, rounds=1, start_n=1150.0, progress=None,
+                             evaluate=synthetic(levels, thresholds))
+    assert s.levels_n == levels and s.thresholds_rpm == thresholds
+    returns = [h["mean_return"] for h in meta["history"]]
+    assert returns == sorted(returns) and returns[-1] == 0.0                  # never worse, then the optimum
+
+
+def test_the_fit_refuses_seeds_outside_training():
+    with pytest.raises(ValueError, match="training seeds"):
+        F.fit_schedule("transient", "2-level", episodes=5, seed=50_000, progress=None, evaluate=lambda s: np.zeros(len(s)))
+    with pytest.raises(ValueError, match="kind must be one of"):
+        F.fit_schedule("transient", "4-level", progress=None, start_n=1000.0, evaluate=lambda s: np.zeros(len(s)))
+
+
+def test_a_tiny_fit_on_the_simulator():
+    s, meta = F.fit_schedule("transient", "2-level", episodes=2, episode_steps=3, grid_step_n=850.0, rounds=1,
+                             start_n=1150.0, progress=None)
+    returns = [h["mean_return"] for h in meta["history"]]
+    assert returns == sorted(returns) and all(np.isfinite(returns))
+    assert set(s.levels_n) <= {300.0, 1150.0, 2000.0} and s.thresholds_rpm[0] in F.THRESHOLD_CANDIDATES_RPM
