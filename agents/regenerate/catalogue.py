@@ -30,8 +30,9 @@ from agents.regenerate.profiles import Profile
 __all__ = ["products", "PLANNER_EPISODE_S"]
 
 #: the planner per test episode of the benchmark's length, core-seconds: the averages of the runs
-#: stored on kernel 04bca561d3fb1e1e (planner_<tier>/seed_*.json, wall_s; one core each)
-PLANNER_EPISODE_S = {"transient": 114.0, "field": 95.0, "stationary": 67.0, "paper": 52.0}
+#: stored on kernel 6ff3acfe31277804 (benchmark v2; planner_<tier>/seed_*.json, wall_s; one of two
+#: workers each); v1's kernel 04bca561d3fb1e1e took 114, 95, 67 and 52 s
+PLANNER_EPISODE_S = {"transient": 58.1, "field": 70.9, "stationary": 30.9, "paper": 30.1}
 
 
 def _grid_size(step_n: float) -> int:
