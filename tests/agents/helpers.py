@@ -16,3 +16,14 @@ def diverging(limit_m):
     # a tight divergence limit makes the integrator "diverge" (terminate the episode) on purpose
     from bearing_gym.envs import env_params
     return {"scenario": "paper", "params": env_params(divergence_limit_m=limit_m)}
+
+
+def first_python_block(page, section: str) -> str:
+    """The first ``python`` code block after the heading ``section`` of the markdown file ``page``
+    (what a docs test executes as written)."""
+    import re
+    text = page.read_text(encoding="utf-8")
+    assert section in text, f"{page.name} has no section {section!r}"
+    m = re.search(r"```python\n(.*?)```", text.split(section, 1)[1], re.S)
+    assert m, f"no python block in {page.name}'s {section!r}"
+    return m.group(1)

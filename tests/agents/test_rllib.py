@@ -16,7 +16,6 @@ learning.
 
 import ast
 import math
-import re
 from pathlib import Path
 
 import gymnasium
@@ -26,6 +25,8 @@ import pytest
 import bearing_gym  # noqa: F401 - registers BearingPreload-v0
 from bearing_gym.task import EPISODE_STEPS
 from bearing_gym.envs.reward import VibrationFirstReward
+
+from tests.agents.helpers import first_python_block
 
 PAGE = Path(__file__).resolve().parents[2] / "docs" / "scaling.md"
 SECTION = "## Training past one machine"
@@ -40,11 +41,7 @@ LOOP = "for _ in range(100):\n    result = algo.train()"
 
 def page_snippet() -> str:
     """The first ``python`` code block of docs/scaling.md's section on training past one machine."""
-    text = PAGE.read_text(encoding="utf-8")
-    assert SECTION in text, f"docs/scaling.md has no section {SECTION!r}"
-    m = re.search(r"```python\n(.*?)```", text.split(SECTION, 1)[1], re.S)
-    assert m, f"no python block in docs/scaling.md {SECTION!r}"
-    return m.group(1)
+    return first_python_block(PAGE, SECTION)
 
 
 def small_setup(snippet: str) -> ast.Module:

@@ -31,6 +31,17 @@ def _episode(venv, seeds, steps=3):
     return out, np.concatenate([venv.batch.X.ravel(), venv.batch.V.ravel()])
 
 
+def _bank_of_another_kernel(path):
+    """A bank of SEEDS[0] saved at ``path`` as if kernel 0123456789abcdef had made it."""
+    SB.build(TIER, SEEDS[:1]).save(path)
+    with np.load(path) as f:
+        meta = json.loads(str(f["meta"]))
+        arrays = {k: f[k] for k in f.files if k != "meta"}
+    meta["kernel_hash"] = "0123456789abcdef"
+    np.savez_compressed(path, meta=np.array(json.dumps(meta)), **arrays)
+    return path
+
+
 def test_a_reset_from_the_bank_is_the_settle_bit_for_bit(tmp_path, clean_caches, monkeypatch):
     fresh, state = _episode(BearingPreloadVectorEnv(num_envs=3, tier=TIER, max_episode_steps=None), SEEDS)
     bank = SB.build(TIER, SEEDS, batch_envs=2)
@@ -53,12 +64,7 @@ def test_a_reset_from_the_bank_is_the_settle_bit_for_bit(tmp_path, clean_caches,
 
 
 def test_a_bank_of_another_kernel_is_refused_with_the_rebuild_command(tmp_path, clean_caches):
-    path = SB.build(TIER, SEEDS[:1]).save(tmp_path / "bank.npz")
-    with np.load(path) as f:
-        meta = json.loads(str(f["meta"]))
-        arrays = {k: f[k] for k in f.files if k != "meta"}
-    meta["kernel_hash"] = "0123456789abcdef"
-    np.savez_compressed(path, meta=np.array(json.dumps(meta)), **arrays)
+    path = _bank_of_another_kernel(tmp_path / "bank.npz")
     with pytest.raises(ValueError, match="kernel 0123456789abcdef.*python -m bearing_gym.envs.start_bank --tier transient"):
         SB.load(path)
 
@@ -138,12 +144,7 @@ def test_a_bank_that_does_not_fit_the_env_is_refused_saying_why(tmp_path, clean_
         BearingPreloadEnv(start_bank=3)
     with pytest.raises(ValueError, match="cannot pin"):
         BearingPreloadEnv(start_bank="shipped").reset(seed=0, options={"clearance_m": 1e-5})
-    stale = SB.build(TIER, SEEDS[:1]).save(tmp_path / "bank.npz")
-    with np.load(stale) as f:
-        meta = json.loads(str(f["meta"]))
-        arrays = {k: f[k] for k in f.files if k != "meta"}
-    meta["kernel_hash"] = "0123456789abcdef"
-    np.savez_compressed(stale, meta=np.array(json.dumps(meta)), **arrays)
+    stale = _bank_of_another_kernel(tmp_path / "bank.npz")
     with pytest.raises(ValueError, match="made by kernel 0123456789abcdef"):
         BearingPreloadEnv(start_bank=stale)
     in_memory = SB.load(path, check_kernel=False)

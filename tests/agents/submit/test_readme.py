@@ -4,19 +4,16 @@ the submission it promises."""
 
 import ast
 import json
-import re
 from pathlib import Path
+
+from tests.agents.helpers import first_python_block
 
 README = Path(__file__).resolve().parents[3] / "README.md"
 SECTION = "## Any policy on the board"
 
 
 def snippet() -> str:
-    text = README.read_text(encoding="utf-8")
-    assert SECTION in text, f"README.md has no section {SECTION!r}"
-    m = re.search(r"```python\n(.*?)```", text.split(SECTION, 1)[1], re.S)
-    assert m, f"no python block in README's {SECTION!r}"
-    return m.group(1)
+    return first_python_block(README, SECTION)
 
 
 def test_the_readme_snippet_scores_a_rule_and_saves_its_submission(tmp_path, monkeypatch, capsys):

@@ -17,6 +17,15 @@ TINY = dict(steps=300, validation_episodes=2, eval_every=100,
             overrides={"buffer_size": 2000, "learning_starts": 100, "batch_size": 32})
 
 
+def always_pruning():
+    """A fixed SAC trial whose pruner always says stop."""
+    class Pruning(optuna.trial.FixedTrial):
+        def should_prune(self) -> bool:
+            return True
+    return Pruning({"utd": 0.25, "net_arch": "64x64", "learning_rate": 3e-4, "gamma": 0.95, "batch_size": 128,
+                    "tau": 0.02})
+
+
 def test_a_tiny_study_runs_to_its_budget_and_exports_every_trial(tmp_path, monkeypatch):
     monkeypatch.setattr(tuning, "runs_dir", lambda *p: tmp_path.joinpath("runs", *p))
     storage = f"sqlite:///{tmp_path / 'tuning.db'}"
@@ -42,11 +51,7 @@ def test_a_tiny_study_runs_to_its_budget_and_exports_every_trial(tmp_path, monke
 
 
 def test_a_trial_below_the_median_is_pruned_at_its_validation(tmp_path):
-    class Pruning(optuna.trial.FixedTrial):
-        def should_prune(self) -> bool:
-            return True
-    trial = Pruning({"utd": 0.25, "net_arch": "64x64", "learning_rate": 3e-4, "gamma": 0.95, "batch_size": 128,
-                     "tau": 0.02})
+    trial = always_pruning()
     with pytest.raises(optuna.TrialPruned, match="pruned at 100 steps"):
         tuning.objective(trial, "sac", out_dir=tmp_path, **TINY)
 
@@ -62,11 +67,7 @@ def test_a_resumed_study_draws_on_instead_of_replaying_its_first_trials(tmp_path
 
 
 def test_a_trial_is_not_pruned_at_its_last_validation(tmp_path):
-    class Pruning(optuna.trial.FixedTrial):
-        def should_prune(self) -> bool:
-            return True
-    trial = Pruning({"utd": 0.25, "net_arch": "64x64", "learning_rate": 3e-4, "gamma": 0.95, "batch_size": 128,
-                     "tau": 0.02})
+    trial = always_pruning()
     value = tuning.objective(trial, "sac", out_dir=tmp_path, **{**TINY, "steps": 100})
     assert np.isfinite(value)
 
