@@ -36,7 +36,7 @@ __all__ = ["PROTOCOL_VERSION", "TRAIN", "VALIDATION", "TIER_DESIGN", "TEST", "RE
            "HEADLINE_SEEDS", "OTHER_SEEDS", "RUN_SEED_STRIDE", "STEP_BUDGET_PER_RUN",
            "STEP_BUDGET_CHOSEN_FROM_THROUGHPUT", "VALIDATION_EPISODES_IN_TRAINING", "VALIDATION_EVERY_STEPS",
            "SCHEDULE_FIT_EPISODES", "SCHEDULE_FIT_SEED", "SCHEDULE_FIT_ROUNDS", "TUNING_TRIALS", "TUNING_STEPS", "TUNING_VALIDATION_EPISODES", "TUNING_STARTUP_TRIALS",
-           "TUNING_PRUNE_AFTER_STEPS", "TUNING_LAST_VALIDATIONS", "TUNING_SAMPLER_SEED", "TUNING_RANDOM_TRIALS", "TUNING_TRAIN_SEED",
+           "TUNING_PRUNE_AFTER_STEPS", "TUNING_LAST_VALIDATIONS", "TUNING_SAMPLER_SEED", "TUNING_RANDOM_TRIALS", "TUNING_TRAIN_SEED", "VALIDATION_RULES", "VALIDATION_RULE", "TUNING_VALIDATION_RULE", "TUNING_PROTOCOL_VERSION",
            "training_seeds", "held_out_seeds", "validation_seeds", "episodes_for_tier",
            "preload_grid", "check_protocol"]
 
@@ -70,6 +70,19 @@ HINDSIGHT_GRID_STEP_N = 50.0
 #: The validation-chosen constant is chosen on the same grid (so it is one of the hindsight's
 #: candidates and the hindsight constant never scores below it).
 VALIDATION_GRID_STEP_N = HINDSIGHT_GRID_STEP_N
+#: How the validation-chosen constant (the board's "0") is chosen from the grid's mean returns on the
+#: VALIDATION_CONSTANT_EPISODES validation episodes. "best_mean" (protocol 1): the highest mean; on
+#: a plateau (v1: 1500/1600/1850 N within 1 reward unit) it flips with the last bits. "one_se_largest"
+#: (protocol 2, stated before it was computed, the protocol issue's own example; Breiman's
+#: one-standard-error rule): the largest preload whose mean return is within one standard error
+#: (of the best candidate's mean over the episodes, ddof 1) of the best mean; larger preload is the
+#: conservative side of every quasi-periodic window of the map. Tuning (run before the v2 bump)
+#: normalises with protocol 2's rule already: TUNING_VALIDATION_RULE.
+VALIDATION_RULES = ("best_mean", "one_se_largest")
+VALIDATION_RULE = "best_mean"
+TUNING_VALIDATION_RULE = "one_se_largest"
+#: The protocol version the hyperparameter search serves (its optuna studies and ymls are v2's).
+TUNING_PROTOCOL_VERSION = 2
 #: The contextual baseline predicts the return of each constant of this coarser grid (N).
 CONTEXTUAL_GRID_STEP_N = 100.0
 

@@ -47,7 +47,7 @@ import numpy as np
 from bearing_gym.envs.provenance import kernel_hash, package_version
 from bearing_gym.envs.reward import REWARD_TERMS
 
-from agents.protocol import VALIDATION, VALIDATION_CONSTANT_EPISODES, VALIDATION_GRID_STEP_N, episodes_for_tier, preload_grid, range_of
+from agents.protocol import VALIDATION, VALIDATION_CONSTANT_EPISODES, VALIDATION_RULES, VALIDATION_GRID_STEP_N, episodes_for_tier, preload_grid, range_of
 from agents.evaluation.result import EvalResult
 from agents.paths import DATA_DIR
 
@@ -80,7 +80,7 @@ class ValidationChoice:
 
     ``grid_n`` are the candidates, ``mean_returns`` their mean returns over the episodes of
     ``seeds`` (all in VALIDATION) of ``episode_steps`` control intervals; ``preload_n`` is the
-    candidate with the highest mean return."""
+    candidate that ``rule`` picks (:func:`rule_choice`; ``"best_mean"``: the highest mean return)."""
 
     tier: str
     preload_n: float
@@ -94,6 +94,8 @@ class ValidationChoice:
     episode_returns: tuple[tuple[float, ...], ...] | None = None
     #: the fingerprint of the kernel that computed it (None: an entry from before fingerprints)
     kernel_hash: str | None = None
+    #: the protocol's rule that picked ``preload_n`` (agents.protocol.VALIDATION_RULES)
+    rule: str = "best_mean"
 
     def __post_init__(self) -> None:
         outside = [s for s in self.seeds if s not in VALIDATION]
@@ -105,15 +107,19 @@ class ValidationChoice:
                              f"Rebuild it: {rebuild_command(self.tier)}")
         if len(self.grid_n) != len(self.mean_returns):
             raise ValueError(f"tier {self.tier}: {len(self.grid_n)} candidates but {len(self.mean_returns)} mean returns")
-        best = self.grid_n[max(range(len(self.grid_n)), key=lambda k: self.mean_returns[k])] if self.grid_n else None
         if self.episode_returns is not None and (
                 len(self.episode_returns) != len(self.grid_n)
                 or any(len(r) != len(self.seeds) for r in self.episode_returns)):
             raise ValueError(f"tier {self.tier}: episode_returns must hold {len(self.seeds)} returns for each of "
                              f"the {len(self.grid_n)} candidates")
+        best = self.preload_for_rule(self.rule) if self.grid_n else None
         if self.preload_n != best:
-            raise ValueError(f"tier {self.tier}: the chosen preload {self.preload_n} N is not the candidate with the "
-                             f"best mean validation return ({best} N); rebuild it: {rebuild_command(self.tier)}")
+            raise ValueError(f"tier {self.tier}: the chosen preload {self.preload_n} N is not the one rule {self.rule!r} "
+                             f"picks from the validation returns ({best} N); rebuild it: {rebuild_command(self.tier)}")
+
+    def preload_for_rule(self, rule: str) -> float:
+        """The candidate ``rule`` picks from the stored validation returns (:func:`rule_choice`)."""
+        return self.grid_n[rule_choice(rule, self.grid_n, self.mean_returns, self.episode_returns, self.tier)]
 
     @property
     def episodes(self) -> int:
@@ -133,10 +139,11 @@ class ValidationChoice:
             out.append(f"a {self.grid_step_n:g} N grid (the protocol: {VALIDATION_GRID_STEP_N:g} N over the actuator's range)")
         return out
 
-    def validation_references(self, seeds) -> tuple["np.ndarray", "np.ndarray"]:
+    def validation_references(self, seeds, preload_n: float | None = None) -> tuple["np.ndarray", "np.ndarray"]:
         """(the chosen constant's return, the hindsight best constant's return) on each validation
         episode of ``seeds`` (each one of :attr:`seeds`, or any validation seed on a deterministic
-        tier, where every seed gives the stored episode): 0 and 1 of the validation score."""
+        tier, where every seed gives the stored episode): 0 and 1 of the validation score.
+        ``preload_n``: another candidate as the 0 (e.g. :meth:`preload_for_rule` of another rule)."""
         import numpy as np
         from bearing_gym.envs.tiers import tier_is_deterministic
         if self.episode_returns is None:
@@ -151,7 +158,7 @@ class ValidationChoice:
                              f"{self.seeds[0]}..{self.seeds[-1]}")
         cols = [where[s] for s in seeds]
         table = np.asarray(self.episode_returns)[:, cols]          # (candidates, episodes)
-        chosen = table[self.grid_n.index(self.preload_n)]
+        chosen = table[self.grid_n.index(self.preload_n if preload_n is None else float(preload_n))]
         return chosen, table.max(axis=0)
 
     def describe(self) -> str:
@@ -175,7 +182,30 @@ class ValidationChoice:
                    episode_steps=int(d["episode_steps"]), wall_s=d.get("wall_s"),
                    episode_returns=(None if d.get("episode_returns") is None else
                                     tuple(tuple(float(x) for x in r) for r in d["episode_returns"])),
-                   kernel_hash=d.get("kernel_hash"))
+                   kernel_hash=d.get("kernel_hash"), rule=d.get("rule", "best_mean"))
+
+
+def rule_choice(rule: str, grid_n, mean_returns, episode_returns=None, tier: str = "") -> int:
+    """The index of the candidate a validation rule picks (agents.protocol.VALIDATION_RULES).
+
+    ``"best_mean"``: the highest mean return (the first of equal ones). ``"one_se_largest"``: the
+    largest-preload candidate of ``grid_n`` whose mean is at least the best
+    mean minus the standard error of the best candidate's mean, ``std(ddof=1) / sqrt(n)`` over its
+    ``n`` episode returns (0 for a single episode: then it is ``"best_mean"``)."""
+    import numpy as np
+    means = np.asarray(mean_returns, dtype=float)
+    if rule not in VALIDATION_RULES:
+        raise ValueError(f"validation rule {rule!r}: expected one of {', '.join(VALIDATION_RULES)}")
+    best = int(np.argmax(means))
+    if rule == "best_mean":
+        return best
+    if episode_returns is None:
+        raise LookupError(f"rule {rule!r} needs the per-episode validation returns; none given"
+                          + (f" (tier {tier}: rebuild its choice: {rebuild_command(tier)})" if tier else ""))
+    r = np.asarray(episode_returns[best], dtype=float)
+    se = float(np.std(r, ddof=1) / np.sqrt(r.size)) if r.size > 1 else 0.0
+    within = np.flatnonzero(means >= means[best] - se)
+    return int(within[np.argmax(np.asarray(grid_n, dtype=float)[within])])
 
 
 def _read(path: Path) -> dict:

@@ -12,7 +12,8 @@ episodes, pruner, sampler seed; the sampler reseeded with the trials done, so a 
 parallel process does not replay draws), the search spaces of :mod:`agents.training.search_spaces`. A trial trains
 as a protocol run does (the shipped start bank, ``N_ENVS`` envs, VecNormalize), validates every
 ``VALIDATION_EVERY_STEPS`` env steps on ``TUNING_VALIDATION_EPISODES`` validation episodes and
-reports the IQM of their normalised scores (0: the validation constant, 1: the hindsight constant,
+reports the IQM of their normalised scores (0: the validation constant by protocol 2's rule,
+``TUNING_VALIDATION_RULE``, 1: the hindsight constant,
 the board's denominator floor: :func:`validation_score`); optuna's median pruner may stop it
 there (never at its last validation). Its value: the mean of its last ``TUNING_LAST_VALIDATIONS``
 scores. Its training seed: ``TUNING_TRAIN_SEED`` + its slot in the budget (:func:`trial_slot`)
@@ -49,7 +50,7 @@ CHOSEN_DIR = HYPERPARAMS_DIR / "v2"
 
 
 def study_name(algo: str) -> str:
-    return f"protocol{P.PROTOCOL_VERSION}-{algo}"
+    return f"protocol{P.TUNING_PROTOCOL_VERSION}-{algo}"
 
 
 def validation_score(returns: np.ndarray, r0: np.ndarray, r1: np.ndarray) -> float:
@@ -128,7 +129,8 @@ def objective(trial, algo: str, steps: int, validation_episodes: int, tier: str 
     eval_env = VecNormalize(make_env(validation_episodes, P.VALIDATION.start, EPISODE_STEPS, tier, threads),
                             norm_obs=True, norm_reward=False, training=False)
     seeds = list(range(P.VALIDATION.start, P.VALIDATION.start + validation_episodes))
-    r0, r1 = load_choice(tier).validation_references(seeds)
+    choice = load_choice(tier)
+    r0, r1 = choice.validation_references(seeds, choice.preload_for_rule(P.TUNING_VALIDATION_RULE))
     out = Path(out_dir or runs_dir("tuning", study_name(algo), f"trial_{trial.number}"))
     scores: list[float] = []
 
@@ -230,7 +232,7 @@ def yaml_number(v: Any) -> str:
 
 def _write_yml(path: Path, algo: str, hp: dict[str, Any], best) -> None:
     """``hp`` as an RL Zoo file (``policy_kwargs`` as RL Zoo's string)."""
-    lines = [f"# Protocol v{P.PROTOCOL_VERSION}'s {algo}: the best trial ({best.number}, value {best.value:.4f}) of "
+    lines = [f"# Protocol v{P.TUNING_PROTOCOL_VERSION}'s {algo}: the best trial ({best.number}, value {best.value:.4f}) of "
              f"python -m agents.training.tuning --algo {algo}", f"# (agents/tuning/{algo}.json has every trial).",
              "BearingPreload-v0:", f"  n_timesteps: {P.STEP_BUDGET_PER_RUN}",
              f"  policy: '{'MlpLstmPolicy' if algo == 'ppo_lstm' else 'MlpPolicy'}'", "  normalize: true",

@@ -24,8 +24,30 @@ def test_a_choice_on_test_or_training_seeds_is_refused():
     for bad in (TEST.start, TRAIN.start + 5):
         with pytest.raises(ValueError, match="validation seeds"):
             _choice(2000.0, seeds=(50_000, bad))
-    with pytest.raises(ValueError, match="best mean validation return"):
+    with pytest.raises(ValueError, match="rule 'best_mean' picks"):
         _choice(300.0)                                  # not the argmax of its own mean returns
+
+
+def test_the_one_se_rule_takes_the_largest_preload_within_one_standard_error_of_the_best():
+    """Worked by hand: the best (1150 N) has returns -1, -3 (mean -2, sample std sqrt(2), SE 1), so
+    means down to -3 are ties: 2000 N at -2.9 is picked, not at -3.1; a single episode has no
+    spread (the rule is the best mean)."""
+    from agents.references.store import rule_choice
+    two = ((-5.0, -5.0), (-1.0, -3.0), (-2.8, -3.0))
+    assert rule_choice("one_se_largest", GRID, (-5.0, -2.0, -2.9), two) == 2
+    assert rule_choice("one_se_largest", GRID, (-5.0, -2.0, -3.1), two) == 1
+    assert rule_choice("one_se_largest", (2000.0, 300.0, 1150.0), (-2.9, -5.0, -2.0), (two[2], two[0], two[1])) == 0
+    assert rule_choice("one_se_largest", GRID, (-5.0, -2.0, -2.1), ((-5.0,), (-2.0,), (-2.1,))) == 1
+    assert rule_choice("best_mean", GRID, (-5.0, -2.0, -2.9)) == 1
+    with pytest.raises(LookupError, match="per-episode"):
+        rule_choice("one_se_largest", GRID, (-5.0, -2.0, -2.9))
+    with pytest.raises(ValueError, match="one_se_largest"):
+        rule_choice("median", GRID, (-5.0, -2.0, -2.9))
+    c = ValidationChoice("transient", 2000.0, (50_000, 50_001), 850.0, GRID, (-5.0, -2.0, -2.9), 150,
+                         episode_returns=two, rule="one_se_largest")
+    assert c.preload_for_rule("best_mean") == 1150.0
+    r0, r1 = c.validation_references([50_001], preload_n=1150.0)
+    assert r0.tolist() == [-3.0] and r1.tolist() == [-3.0]
 
 
 def test_a_store_holding_a_test_seed_does_not_load(tmp_path):

@@ -36,7 +36,7 @@ def test_a_tiny_study_runs_to_its_budget_and_exports_every_trial(tmp_path, monke
     assert first[0]["params"] != first[1]["params"]
     out = tuning.export("sac", storage, trials=2, out_dir=tmp_path / "tuning", chosen_dir=tmp_path / "v2")
     data = json.loads(out.read_text())
-    assert data["study"] == f"protocol{P.PROTOCOL_VERSION}-sac" and data["budget"]["TUNING_TRIALS"] == P.TUNING_TRIALS
+    assert data["study"] == f"protocol{P.TUNING_PROTOCOL_VERSION}-sac" and data["budget"]["TUNING_TRIALS"] == P.TUNING_TRIALS
     assert [t["state"] for t in data["trials"]] == ["COMPLETE", "COMPLETE"]
     for t in data["trials"]:
         scores = t["user_attrs"]["scores"]
