@@ -71,7 +71,7 @@ from bearing_gym.task import EPISODE_STEPS
 from agents.policies.scripted import Policy
 from agents.protocol import HINDSIGHT_GRID_STEP_N, preload_grid
 
-__all__ = ["PlannerSettings", "PlanResult", "plan_episode", "ScheduledPreload"]
+__all__ = ["PlannerSettings", "PlanResult", "plan_episode", "ScheduledPreload", "BranchedEpisode", "sequential_sum"]
 
 
 @dataclass(frozen=True)
@@ -203,7 +203,7 @@ class PlanResult:
                    d["terminated"], d.get("settings", {}), d.get("hindsight_from", "sweep"))
 
 
-def _sequential_sum(rewards) -> float:
+def sequential_sum(rewards) -> float:
     """A return as the evaluation loop sums it: float64, in step order, from 0."""
     total = 0.0
     for r in rewards:
@@ -211,7 +211,7 @@ def _sequential_sum(rewards) -> float:
     return total
 
 
-class _Episode:
+class BranchedEpisode:
     """The episode's env: env 0 is the real one, envs 1.. its copies for rollouts."""
 
     def __init__(self, tier: str, seed: int, episode_steps: int, copies: int, env_kwargs: dict | None):
@@ -239,23 +239,27 @@ class _Episode:
     def in_range(self, preload_n: float) -> bool:
         return self._lo <= preload_n <= self._hi
 
-    def rollouts(self, plans: list[np.ndarray], t: int,
-                 prune_at: tuple[float, float] | None = None) -> list[list[float]]:
+    def rollouts(self, plans: list[np.ndarray], t: int, prune_at: tuple[float, float] | None = None,
+                 until: int | None = None, hold_operating_point: bool = False) -> list[list[float]]:
         """Each plan's rewards from interval t to the episode's end (or its termination), rolled
         out on copies of the real env as it stands at t. With ``prune_at`` = (the prefix's
         return, the incumbent's return) and a reward of costs only, a rollout stops as soon as
         its running whole-episode return (summed in step order) is at or below the incumbent's:
         it can only fall further, so it could not have been accepted (exact: the same decisions,
-        fewer steps)."""
+        fewer steps). ``until``: stop at that interval instead (a finite horizon);
+        ``hold_operating_point``: the copies hold the speed and radial load of t (the scenario's
+        later events unknown: a causal controller's model)."""
         k = len(plans)
         idx = np.arange(1, k + 1)
         self.venv.copy_env(0, idx)
+        if hold_operating_point:
+            self.venv.hold_operating_point(idx)
         rewards: list[list[float]] = [[] for _ in range(k)]
         alive = np.ones(k, dtype=bool)
         prune = prune_at is not None and self.costs_only
         running = np.full(k, prune_at[0] if prune else 0.0)
         P = np.array(plans)
-        for s in range(t, self.T):
+        for s in range(t, self.T if until is None else min(until, self.T)):
             act = np.zeros(self.venv.num_envs)
             live = idx[alive]
             act[live] = self.action(P[alive, s])
@@ -292,7 +296,7 @@ def _add_new(out: list[np.ndarray], p: np.ndarray, plan: np.ndarray) -> None:
         out.append(p)
 
 
-def _candidates(plan: np.ndarray, t: int, s: PlannerSettings, ep: _Episode, swept: frozenset[float]) -> list[np.ndarray]:
+def _candidates(plan: np.ndarray, t: int, s: PlannerSettings, ep: BranchedEpisode, swept: frozenset[float]) -> list[np.ndarray]:
     """The plans tried at decision t (module docstring). At t = 0 a new level held from t is a
     constant plan: those of the hindsight sweep (``swept``) are left out, as none can beat the
     incumbent (it starts as their best and only rises)."""
@@ -341,7 +345,7 @@ def _candidates(plan: np.ndarray, t: int, s: PlannerSettings, ep: _Episode, swep
     return out
 
 
-def _settle_candidates(plan: np.ndarray, t: int, s: PlannerSettings, ep: _Episode) -> list[np.ndarray]:
+def _settle_candidates(plan: np.ndarray, t: int, s: PlannerSettings, ep: BranchedEpisode) -> list[np.ndarray]:
     """The settle pass's plans at decision t: a block at each ``block_levels_n`` level for each
     ``block_intervals`` length, then a linear ramp down over each ``ramp_down_intervals`` length
     (none: a step) to each lower ``jumps_n`` level, held to the episode's end."""
@@ -370,7 +374,7 @@ def plan_episode(tier: str, seed: int, episode_steps: int = EPISODE_STEPS,
     constant, its return) from a stored sweep of the same grid on this episode replaces step 1
     (a third of the cost); the run then checks it: with no change accepted, the real episode
     must return the stored return bit for bit. ``prune`` stops candidate rollouts that can no
-    longer win (:meth:`_Episode.rollouts`; the same plan, fewer env steps). ``warm_plan_n`` (a
+    longer win (:meth:`BranchedEpisode.rollouts`; the same plan, fewer env steps). ``warm_plan_n`` (a
     plan found before, e.g. by other settings) is rolled out from t = 0 and becomes the incumbent
     if it returns more than the hindsight constant: the search goes on from there.
 
@@ -408,13 +412,13 @@ def plan_episode(tier: str, seed: int, episode_steps: int = EPISODE_STEPS,
         earlier_steps, earlier_s = resume.env_steps, resume.wall_s
     if hindsight is None:
         # 1. the hindsight best constant: the incumbent (first best on ties, as hindsight_constant)
-        ep = _Episode(tier, seed, episode_steps, max(len(grid), local), env_kwargs)
+        ep = BranchedEpisode(tier, seed, episode_steps, max(len(grid), local), env_kwargs)
         sweep = ep.rollouts([np.full(T, p) for p in grid], 0)
-        returns = [_sequential_sum(r) for r in sweep]
+        returns = [sequential_sum(r) for r in sweep]
         best = int(np.argmax(returns))
         hindsight = (float(grid[best]), returns[best])
     else:
-        ep = _Episode(tier, seed, episode_steps, local, env_kwargs)
+        ep = BranchedEpisode(tier, seed, episode_steps, local, env_kwargs)
         if not ep.in_range(float(hindsight[0])):
             raise ValueError(f"planner: the stored hindsight constant {hindsight[0]} N is outside the actuator's "
                              f"range [{ep._lo:g}, {ep._hi:g}] N")
@@ -425,7 +429,7 @@ def plan_episode(tier: str, seed: int, episode_steps: int = EPISODE_STEPS,
         warm = np.asarray(warm_plan_n, dtype=float)
         if warm.shape != (T,) or not all(ep.in_range(float(v)) for v in warm):
             raise ValueError(f"planner: a warm plan needs {T} set-points inside the actuator's range, got {warm.shape}")
-        total = _sequential_sum(ep.rollouts([warm], 0)[0])
+        total = sequential_sum(ep.rollouts([warm], 0)[0])
         if total > incumbent:
             plan, incumbent = warm.copy(), total
 
@@ -444,9 +448,9 @@ def plan_episode(tier: str, seed: int, episode_steps: int = EPISODE_STEPS,
                     cands = propose(plan, t)
                     counts[0] += 1
                     changed = False
-                    bound = (_sequential_sum(prefix), incumbent) if prune else None
+                    bound = (sequential_sum(prefix), incumbent) if prune else None
                     for cand, rw in zip(cands, ep.rollouts(cands, t, bound) if cands else []):
-                        total = _sequential_sum(prefix + rw)
+                        total = sequential_sum(prefix + rw)
                         if total > incumbent:
                             plan, incumbent, changed = cand, total, True
                     counts[1] += changed
@@ -454,7 +458,7 @@ def plan_episode(tier: str, seed: int, episode_steps: int = EPISODE_STEPS,
                 prefix += rewards
                 if ended:
                     break
-        real = _sequential_sum(prefix)
+        real = sequential_sum(prefix)
         if real != incumbent and from_hindsight and source == "stored" and not counts[1]:
             raise RuntimeError(f"planner, tier {tier} seed {seed}: the hindsight constant {hindsight[0]:.0f} N returned "
                                f"{real!r}, the stored sweep {hindsight[1]!r}: the stored sweep is stale")
@@ -473,13 +477,13 @@ def plan_episode(tier: str, seed: int, episode_steps: int = EPISODE_STEPS,
                 continue
             ep.restart(seed)              # rollouts step copies only: env 0 stays at t = 0 for search
             start = np.full(T, float(v))
-            other = search(start, _sequential_sum(ep.rollouts([start], 0)[0]), wide, s.passes)
+            other = search(start, sequential_sum(ep.rollouts([start], 0)[0]), wide, s.passes)
             if other[1] > incumbent:
                 plan, incumbent, real, ended = other
     else:
         plan = np.asarray(resume.plan_n, dtype=float).copy()
         steps_before = ep.steps
-        incumbent = _sequential_sum(ep.rollouts([plan], 0)[0])
+        incumbent = sequential_sum(ep.rollouts([plan], 0)[0])
         ep.steps = steps_before           # the check is not part of the search's cost
         if incumbent != resume.return_:
             raise RuntimeError(f"planner, tier {tier} seed {seed}: the stored plan returned {incumbent!r}, the stored "

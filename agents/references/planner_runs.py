@@ -31,6 +31,7 @@ from bearing_gym.task import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
 
 import numpy as np
 
+from agents.clock import deadline
 from agents.paths import DATA_DIR
 from agents.evaluation.episodes import run_policies
 from agents.evaluation.result import EvalResult
@@ -38,7 +39,7 @@ from agents.policies.planner import PlannerSettings, PlanResult, ScheduledPreloa
 from agents.protocol import TEST, TEST_EPISODES, episodes_for_tier
 from agents.references.store import stored_hindsight
 
-__all__ = ["planner_dir", "episode_path", "missing", "load_plans", "replay", "run", "main"]
+__all__ = ["planner_dir", "episode_path", "missing", "load_plans", "replay", "run", "main", "episodes_main", "fresh_run"]
 
 #: the --until estimate before an episode of this run is done: a whole episode took 95-125 s on
 #: average on `field` and `transient` on the 2-core development VM (the other core busy), a
@@ -59,7 +60,9 @@ def _seeds(tier: str, episodes: int | None) -> list[int]:
     return [TEST.start + i for i in range(n)]
 
 
-def _fresh(path: Path, settings: PlannerSettings, episode_steps: int) -> bool:
+def fresh_run(path: Path, settings, episode_steps: int) -> bool:
+    """Whether ``path`` holds a run of this kernel, these settings (``settings.as_dict()``) and
+    episode length."""
     try:
         d = json.loads(path.read_text())
     except (OSError, ValueError):
@@ -71,7 +74,7 @@ def _fresh(path: Path, settings: PlannerSettings, episode_steps: int) -> bool:
 def missing(tier: str, episodes: int | None = None, settings: PlannerSettings = PlannerSettings(),
             episode_steps: int = EPISODE_STEPS, data_dir: Path = DATA_DIR) -> list[int]:
     """The test seeds still to plan: absent, or made by another kernel or with other settings."""
-    return [s for s in _seeds(tier, episodes) if not _fresh(episode_path(tier, s, data_dir), settings, episode_steps)]
+    return [s for s in _seeds(tier, episodes) if not fresh_run(episode_path(tier, s, data_dir), settings, episode_steps)]
 
 
 def load_plans(tier: str, episodes: int | None = None, settings: PlannerSettings = PlannerSettings(),
@@ -121,7 +124,7 @@ def run(tier: str, seeds: list[int], settings: PlannerSettings = PlannerSettings
                 break
         t0 = time.perf_counter()
         path = episode_path(tier, seed, data_dir)
-        if settings.settles and _fresh(path, settings.before_settle(), episode_steps):
+        if settings.settles and fresh_run(path, settings.before_settle(), episode_steps):
             # the search up to the settle pass is stored: only the settle pass runs (the same bits)
             res = plan_episode(tier, seed, episode_steps, settings,
                                resume=PlanResult.from_json(json.loads(path.read_text())))
@@ -140,31 +143,32 @@ def run(tier: str, seeds: list[int], settings: PlannerSettings = PlannerSettings
     return written
 
 
-def main(argv: list[str] | None = None) -> None:
-    ap = argparse.ArgumentParser(prog="python -m agents.references.planner_runs",
-                                 description="The planner on a tier's test episodes, one file per episode.")
+def episodes_main(argv: list[str] | None, prog: str, what: str, missing_fn, seeds_fn, run_fn) -> None:
+    """The command line of a per-episode reference run (``--status | --next K | --until HH:MM``):
+    ``missing_fn(tier, episodes, data_dir=)``, ``seeds_fn(tier, episodes)``, ``run_fn(tier, seeds,
+    data_dir=, deadline=)``."""
+    ap = argparse.ArgumentParser(prog=prog, description=f"The {what} on a tier's test episodes, one file per episode.")
     ap.add_argument("--tier", choices=TIER_NAMES, default=DEFAULT_TIER)
     ap.add_argument("--episodes", type=int, help="first N test episodes (default: the protocol's)")
     g = ap.add_mutually_exclusive_group(required=True)
-    g.add_argument("--status", action="store_true", help="how many episodes are planned")
-    g.add_argument("--next", type=int, metavar="K", help="plan the next K missing episodes")
-    g.add_argument("--until", metavar="HH:MM", help="plan episodes while one can finish before this time")
+    g.add_argument("--status", action="store_true", help="how many episodes are done")
+    g.add_argument("--next", type=int, metavar="K", help="run the next K missing episodes")
+    g.add_argument("--until", metavar="HH:MM", help="run episodes while one can finish before this time")
     ap.add_argument("--data-dir", default=str(DATA_DIR))
     a = ap.parse_args(argv)
     data_dir = Path(a.data_dir)
-    todo = missing(a.tier, a.episodes, data_dir=data_dir)
-    total = len(_seeds(a.tier, a.episodes))
+    todo = missing_fn(a.tier, a.episodes, data_dir=data_dir)
+    total = len(seeds_fn(a.tier, a.episodes))
     if a.status:
-        print(f"planner, tier {a.tier}: {total - len(todo)} of {total} test episodes planned on this kernel"
+        print(f"{what}, tier {a.tier}: {total - len(todo)} of {total} test episodes done on this kernel"
               + (f"; next seed {todo[0]}" if todo else ""))
         return
-    deadline = None
-    if a.until:
-        hh, mm = (int(x) for x in a.until.split(":"))
-        deadline = datetime.now().replace(hour=hh, minute=mm, second=0, microsecond=0)
-        if deadline < datetime.now():
-            deadline += timedelta(days=1)
-    run(a.tier, todo if a.next is None else todo[:a.next], data_dir=data_dir, deadline=deadline)
+    run_fn(a.tier, todo if a.next is None else todo[:a.next], data_dir=data_dir,
+           deadline=deadline(a.until) if a.until else None)
+
+
+def main(argv: list[str] | None = None) -> None:
+    episodes_main(argv, "python -m agents.references.planner_runs", "planner", missing, _seeds, run)
 
 
 if __name__ == "__main__":

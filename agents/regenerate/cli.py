@@ -13,7 +13,9 @@ from __future__ import annotations
 
 import argparse
 import os
-from datetime import datetime, timedelta
+from datetime import datetime
+
+from agents.clock import deadline
 from pathlib import Path
 from typing import Callable
 
@@ -104,12 +106,7 @@ def product_table(sel: Selection) -> str:
 
 
 def _deadline(text: str) -> datetime:
-    try:
-        hh, mm = (int(x) for x in text.split(":"))
-        at = datetime.now().replace(hour=hh, minute=mm, second=0, microsecond=0)
-    except ValueError:
-        raise SystemExit(f"--until takes a time as HH:MM, got {text!r}") from None
-    return at if at > datetime.now() else at + timedelta(days=1)
+    return deadline(text)
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -30,8 +30,8 @@ from bearing_gym.physics.rating import dynamic_capacities_n
 from bearing_gym.physics.rotor import N_REC, N_SCAL
 
 from .actuator import PreloadActuator
-from .kernel import E_SETPOINT, E_T, N_ENV_STATE, BatchArrays, step_batch, step_batch_serial
-from .scenario import SCHEDULE_SIZE, Scenario
+from .kernel import E_SETPOINT, E_T, N_ENV_STATE, BatchArrays, operating_point, step_batch, step_batch_serial
+from .scenario import MAX_EVENTS, SCHEDULE_SIZE, Scenario
 
 MAX_RACE_TERMS = 4
 
@@ -340,6 +340,19 @@ class PreloadBatch:
             arr[dst] = arr[src]
         for d in dst:
             self.scenarios[int(d)] = self.scenarios[src]
+
+    def hold_operating_point(self, dst) -> None:
+        """From now on env(s) ``dst`` hold the shaft speed and the radial load (x, y) their
+        schedules give at their present time: the scenario's later events are dropped. A model
+        of the future that assumes the present operating point persists (a causal controller's
+        branches; :meth:`copy_env` first)."""
+        base = 1 + 2 * MAX_EVENTS
+        for b in np.atleast_1d(np.asarray(dst, dtype=np.int64)):
+            omega, fx, fy = operating_point(self.sched[b], self.env_state[b, E_T])
+            row = np.zeros(SCHEDULE_SIZE)
+            row[0], row[1], row[2] = 1.0, 0.0, omega
+            row[base], row[base + 1], row[base + 2], row[base + 3] = 1.0, 0.0, fx, fy
+            self.sched[b] = row
 
     def step(self, setpoints: np.ndarray, active: np.ndarray) -> None:
         """One control interval of the envs ``active`` towards their ``setpoints`` (N)."""

@@ -173,6 +173,15 @@ class BearingPreloadVectorEnv(TaskParts, VectorEnv):
             self._frame_poincare[d] = copy.deepcopy(self._frame_poincare[src])
             self._frame_orbit[d] = self._frame_orbit[src]
 
+    def hold_operating_point(self, idx) -> None:
+        """Env(s) ``idx`` hold, from now on, the shaft speed and radial load of their present
+        time (:meth:`PreloadBatch.hold_operating_point`): branches of a controller that does not
+        know the scenario's future (copy them with :meth:`copy_env` first)."""
+        idx = np.atleast_1d(np.asarray(idx, dtype=np.int64))
+        if idx.size and (idx.min() < 0 or idx.max() >= self.num_envs):
+            raise ValueError(f"idx must be env indices in [0, {self.num_envs}), got {idx.tolist()}")
+        self.batch.hold_operating_point(idx)
+
     @property
     def scenarios(self) -> tuple:
         """The scenario each env is running (None before its first reset)."""
