@@ -13,10 +13,9 @@ from bearing_gym.validation import check_real
 from .ball import B_CTRL, B_VR_PREV, B_VR_PREV2, B_VZ_PREV, B_VZ_PREV2, N_BALL_OUT
 from .bearing import bearing_force, cage_speed
 from .equilibrium import static_equilibrium
-from .layout import (CONTROL_INNER, I_CONTROL, I_CTX, I_CX, I_DT, I_IR, I_MASS, I_PHI0,
-                     O_OMEGA, O_PX, O_PY, O_PZ, pack_params)
+from .layout import (I_CX, I_DT, O_OMEGA, O_PX, O_PY, O_PZ, pack_params)
 from .rotor import (N_REC, N_SCAL, R_CAGE_ANGLE, R_CAGE_SPEED, R_F, R_N_INNER, R_SHAFT, R_T, R_V,
-                    R_X, S_A_PREV, S_A_PREV2, S_CAGE, S_CAGE_SPEED, S_SHAFT, S_T, integrate,
+                    R_X, S_A_PREV, S_A_PREV2, S_CAGE_SPEED, S_T, integrate,
                     solve_acceleration)
 from .status import status_text
 

@@ -224,7 +224,6 @@ def test_spec_json_round_trip_rebuilds_the_same_env():
 def test_spec_round_trip_with_a_fixed_scenario_and_params():
     from gymnasium.envs.registration import EnvSpec
 
-    import bearing_gym
     sc = Scenario(speed_profile=((0.0, 15000.0), (0.5, 15000.0), (0.7, 18000.0)), clearance_m=8e-6,
                   initial_preload_n=900.0)
     params = bearing_gym.envs.env_params(damping_ratio=0.03)
