@@ -190,11 +190,12 @@ def run(algo: str, storage: str, until: float | None = None, trials: int = P.TUN
                   f"stopping with {_finished(study)}/{trials} done", flush=True)
             break
         study.sampler = _sampler(len(study.trials))
+        mine: list = []                           # this process's trial (others may run beside it)
         study.optimize(lambda tr: objective(tr, algo, steps, validation_episodes, threads=threads, **objective_kw),
-                       n_trials=1, catch=())
+                       n_trials=1, catch=(), callbacks=[lambda _study, frozen: mine.append(frozen)])
         optuna.storages.fail_stale_trials(study)
         ran += 1
-        last = study.trials[-1]
+        last = mine[-1]
         print(f"{study_name(algo)}: trial {last.number} {last.state.name.lower()}, value {last.value}, "
               f"{last.user_attrs.get('wall_s', 0.0) / 60:.1f} min; {_finished(study)}/{trials} done", flush=True)
     return ran
