@@ -10,7 +10,7 @@ Nothing in bearing_gym imports ``agents``, ``train`` or ``benchmarks``, which si
 
 ``agents`` (the ``rl`` extra) has layers of its own, lowest first:
 
-    paths, protocol < policies < evaluation < references < leaderboard (and the
+    paths, protocol, extras, clock < policies < evaluation < references < leaderboard (and the
     ``agents.evaluate`` alias) < training < regenerate < the package's __init__
 
 and may import any of bearing_gym, never ``train`` or ``benchmarks``.
@@ -39,7 +39,7 @@ LAYERS = (
 )
 OUTSIDE = ("agents", "train", "benchmarks")
 AGENT_LAYERS = (
-    ("base", ("agents.paths", "agents.protocol", "agents.extras")),
+    ("base", ("agents.paths", "agents.protocol", "agents.extras", "agents.clock")),
     ("policies", ("agents.policies",)),
     ("evaluation", ("agents.evaluation",)),
     ("references", ("agents.references",)),

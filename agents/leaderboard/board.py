@@ -69,7 +69,7 @@ from bearing_gym.envs.tiers import tier_is_deterministic
 from agents import protocol as P
 from agents.policies.contextual import DATA_DIR, ContextualConstant, contextual_path
 from agents.references.contextual_fit import fit_contextual
-from agents.leaderboard.tables import summarise, to_markdown
+from agents.leaderboard.tables import pairwise_improvement, summarise, to_markdown
 from agents.evaluation.trained import PRETRAINED_DIR, SB3Policy, load_trained, shipped_dirs
 from agents.evaluation.episodes import hindsight_preloads, run_policies, sweep_row
 from agents.policies.oracle import TABLE_PATH as ORACLE_TABLE, MapOracle
@@ -81,6 +81,9 @@ from agents.policies.planner import plan_episode
 from agents.leaderboard.results_file import default_out, header, kept_tiers, table_path, write
 from agents.references.store import StoredReferences, load_references
 from agents.leaderboard.settings import FULL, SMOKE, Settings
+
+#: the row kinds compared pair by pair on a tier (results.json's pairwise_improvement)
+PAIRWISE_KINDS = ("learned", "industry")
 from agents.leaderboard.upper import PLANNER_ROW, planner_row, require_planner_settings, score_bounds, upper_fields
 
 __all__ = ["PLANNER_ROW", "LearnedGroup", "learned_groups", "run_tier", "summarise",
@@ -285,6 +288,10 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
         want = len(P.training_seeds(g.algo)) if g.algo in P.ALGORITHMS else None
         if not g.shipped and want is not None and len(g.policies) < want:
             deviations.append(f"{g.row_name(tier)}: {len(g.policies)} training seeds (the protocol: {want})")
+    # every pair of learned (and industry-practice) rows: which improves on which, paired by episode
+    compared = {name: np.asarray(row["episode_returns"]) for name, row in rows.items()
+                if row["kind"] in PAIRWISE_KINDS}
+    pairwise = pairwise_improvement(compared, r0, r1, s.poi_reps) if len(compared) > 1 else {}
     if s.episodes < protocol_s.episodes:
         deviations.append(f"{s.episodes} test episodes (the protocol: {protocol_s.episodes})")
     upper, upper_deviations = upper_fields(refs, r0, r1, protocol_s.planner_settings())
@@ -308,7 +315,7 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
                                     "episode_steps": choice.episode_steps},
             "references": "stored (agents/data, checked against the validation constant run again)" if stored
             else "computed in this run",
-            **upper, "policies": rows, "wall_s": time.time() - t0}
+            **upper, "policies": rows, "pairwise_improvement": pairwise, "wall_s": time.time() - t0}
 
 
 def build_parser() -> argparse.ArgumentParser:

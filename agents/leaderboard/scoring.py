@@ -48,7 +48,8 @@ import numpy as np
 
 
 __all__ = ["DENOMINATOR_FLOOR", "upper_reference", "normalised_scores", "floored_episodes", "iqm",
-           "iqm_interval", "mean_interval", "seed_interval", "probability_of_improvement", "BOOTSTRAP_REPS", "POI_REPS"]
+           "iqm_interval", "mean_interval", "seed_interval", "optimality_gap_interval", "probability_of_improvement",
+           "BOOTSTRAP_REPS", "POI_REPS", "seeded_global_rng"]
 
 #: Reward units: the smallest cost of one quasi-periodic interval (module docstring: the reason).
 DENOMINATOR_FLOOR = 1.0
@@ -70,7 +71,7 @@ def _rliable():
 
 
 @contextmanager
-def _global_seed(seed: int) -> Iterator[None]:
+def seeded_global_rng(seed: int) -> Iterator[None]:
     state = np.random.get_state()
     np.random.seed(seed)
     try:
@@ -133,7 +134,7 @@ def iqm(scores: np.ndarray) -> float:
 def _interval(scores: np.ndarray, task_bootstrap: bool, reps: int, seed: int) -> tuple[float, float, float]:
     library, metrics = _rliable()
     s = _as_runs_by_tasks(scores)
-    with _global_seed(seed):
+    with seeded_global_rng(seed):
         point, ci = library.get_interval_estimates({"x": s}, lambda x: np.array([metrics.aggregate_iqm(x)]),
                                                    reps=reps, task_bootstrap=task_bootstrap)
     return float(point["x"][0]), float(ci["x"][0][0]), float(ci["x"][1][0])
@@ -151,9 +152,22 @@ def mean_interval(values: np.ndarray, reps: int = BOOTSTRAP_REPS, seed: int = BO
     variant's return and cost, where the IQM of a normalised score does not apply."""
     library, _ = _rliable()
     s = _as_runs_by_tasks(values)
-    with _global_seed(seed):
+    with seeded_global_rng(seed):
         point, ci = library.get_interval_estimates({"x": s}, lambda x: np.array([np.mean(x)]), reps=reps,
                                                    task_bootstrap=True)
+    return float(point["x"][0]), float(ci["x"][0][0]), float(ci["x"][1][0])
+
+
+def optimality_gap_interval(scores: np.ndarray, gamma: float = 1.0, reps: int = BOOTSTRAP_REPS,
+                            seed: int = BOOTSTRAP_SEED) -> tuple[float, float, float]:
+    """(optimality gap, 95 % low, high): rliable's ``aggregate_optimality_gap``, the mean of
+    max(gamma - score, 0) over every run and episode (how far below the upper reference a row
+    stays, with no credit for beating it), with the stratified bootstrap of :func:`iqm_interval`."""
+    library, metrics = _rliable()
+    s = _as_runs_by_tasks(scores)
+    with seeded_global_rng(seed):
+        point, ci = library.get_interval_estimates(
+            {"x": s}, lambda x: np.array([metrics.aggregate_optimality_gap(x, gamma)]), reps=reps, task_bootstrap=True)
     return float(point["x"][0]), float(ci["x"][0][0]), float(ci["x"][1][0])
 
 

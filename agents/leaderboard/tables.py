@@ -12,7 +12,7 @@ from agents.leaderboard import scoring
 from agents.evaluation.result import EvalResult
 
 
-__all__ = ["score_fields", "summarise", "to_markdown"]
+__all__ = ["score_fields", "summarise", "pairwise_improvement", "to_markdown"]
 
 
 def _metrics(results: list[EvalResult]) -> dict[str, Any]:
@@ -50,6 +50,9 @@ def score_fields(returns: np.ndarray, r0: np.ndarray, r1: np.ndarray, bootstrap_
         # planner is not yet a bound on that episode (the goal: under 2 % for learned rows)
         "above_one_fraction": float(np.mean(scores > 1.0)),
         "probability_of_improvement": poi, "poi_ci_low": poi_lo, "poi_ci_high": poi_hi}
+    _, row["mean_ci_low"], row["mean_ci_high"] = scoring.mean_interval(scores, reps=bootstrap_reps)
+    row["optimality_gap"], row["optimality_gap_ci_low"], row["optimality_gap_ci_high"] = \
+        scoring.optimality_gap_interval(scores, reps=bootstrap_reps)
     if scores.shape[0] > 1:
         _, row["seed_ci_low"], row["seed_ci_high"] = scoring.seed_interval(scores, reps=bootstrap_reps)
     if versus:
@@ -75,6 +78,18 @@ def summarise(kind: str, results: list[EvalResult], r0: np.ndarray, r1: np.ndarr
     row["episode_returns"] = returns.tolist()        # (runs, episodes): for statistics of your own
     row.update(extra)
     return row
+
+
+def pairwise_improvement(returns: dict[str, np.ndarray], r0: np.ndarray, r1: np.ndarray,
+                         poi_reps: int) -> dict[str, dict[str, list[float]]]:
+    """For every pair of rows (``returns``: name -> runs x episodes, the episodes of ``r0``/``r1``),
+    in the given order, the probability that the first improves on the second, with its 95 %
+    interval (:func:`scoring.probability_of_improvement`): ``{a: {b: [P(a > b), low, high]}}``.
+    P(b > a) is 1 - P(a > b) (ties count one half), so each pair appears once."""
+    names = list(returns)
+    scores = {k: scoring.normalised_scores(np.atleast_2d(v), r0, r1) for k, v in returns.items()}
+    return {a: {b: list(scoring.probability_of_improvement(scores[a], scores[b], reps=poi_reps))
+                for b in names[i + 1:]} for i, a in enumerate(names[:-1])}
 
 
 def _fmt(x: float | None, spec: str = ".2f") -> str:

@@ -11,7 +11,7 @@ import functools
 from bearing_gym.task import DEFAULT_TIER, EPISODE_STEPS
 
 from agents.evaluation.trained import shipped_dirs
-from agents.leaderboard import breakdown, learning_curves
+from agents.leaderboard import breakdown, learning_curves, profiles
 from agents.paths import PRETRAINED_DIR
 from agents.policies.mpc import DEFAULT_CANDIDATES_N
 from agents.protocol import preload_grid
@@ -49,7 +49,12 @@ def _board(prof: Profile, L) -> list[Product]:
                     digest=functools.partial(B.board_digest, out),
                     command=command.replace("TIER", " ".join(prof.tiers)) + " (a tier at a time; the submissions kept "
                     "in docs/submissions/ added again)")
-    out_list = [board]
+    png = L.docs / "performance_profiles.png"
+    out_list = [board, Product("profiles", "the performance profiles of the board's rows (rliable), a panel per random "
+                               "tier", (png,), (Part("profiles", profiles.main, (["--results", str(out), "--out", str(png)],),
+                                                     60.0),),
+                               upstream=("board",), kernel=False,
+                               command="python -m agents.leaderboard.profiles")]
     for t in (t for t in prof.breakdown_tiers if t in prof.tiers):
         md = L.docs / f"score_breakdown_{t}.md"
         argv = ["--results", str(out), "--tier", t, "--row", prof.breakdown_row, "--out", str(md),
