@@ -46,6 +46,7 @@ require_extra("train.py")        # the rl extra: SB3, sb3-contrib, torch (before
 
 from agents.paths import start_bank_path  # noqa: E402
 from agents.training.setup import hyperparams, load_start_bank, make_env  # noqa: E402,F401 (train.<name> for tests)
+from agents import protocol as P  # noqa: E402
 from agents.protocol import PROTOCOL_VERSION, STEP_BUDGET_PER_RUN, TEST, VALIDATION, VALIDATION_EPISODES_IN_TRAINING, VALIDATION_EVERY_STEPS  # noqa: E402
 from bearing_gym.task import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES  # noqa: E402
 
@@ -61,8 +62,15 @@ def build_parser() -> argparse.ArgumentParser:
                                              "the leaderboard beside the shipped policies and the references.")
     ap.add_argument("--algo", choices=ALGOS, default="ppo",
                     help="ppo, sac (Stable-Baselines3) or ppo_lstm (sb3-contrib's RecurrentPPO, RL Zoo's name)")
-    ap.add_argument("--timesteps", type=int, default=STEP_BUDGET_PER_RUN,
-                    help="total environment steps (control intervals; default: the leaderboard's budget per run); "
+    ap.add_argument("--protocol", type=int, choices=(1, 2), default=PROTOCOL_VERSION,
+                    help="the protocol whose settings are the defaults (default %(default)s, the board's): 1: the "
+                         f"hand-set hyperparameters of agents/hyperparams/, {STEP_BUDGET_PER_RUN:,} steps, "
+                         f"{VALIDATION_EPISODES_IN_TRAINING} validation episodes; 2: the tuned ones of "
+                         f"agents/hyperparams/v2/, {P.V2_STEP_BUDGET_PER_RUN:,} steps, {P.V2_VALIDATION_EPISODES_IN_TRAINING} "
+                         f"validation episodes, the best checkpoint up to {P.V2_EARLY_ROW_STEPS:,} steps kept too "
+                         "(eval/by_<steps>/), rewards normalised with the algorithm's discount")
+    ap.add_argument("--timesteps", type=int, default=None,
+                    help="total environment steps (control intervals; default: the protocol's budget per run); "
                          "with --resume, the run stops at this total")
     ap.add_argument("--n-envs", type=int, default=2, help="environments stepped together by the batched kernel")
     ap.add_argument("--seed", type=int, default=0)
@@ -77,8 +85,9 @@ def build_parser() -> argparse.ArgumentParser:
                          "another value is announced as not the benchmark)")
     ap.add_argument("--eval-episodes", type=int, default=20, help="held-out episodes per policy at the end (0: skip)")
     ap.add_argument("--eval-freq", type=int, default=VALIDATION_EVERY_STEPS, help="validation period in environment steps")
-    ap.add_argument("--val-episodes", type=int, default=VALIDATION_EPISODES_IN_TRAINING,
-                    help="validation episodes per evaluation (the same scenarios each time, one per eval env)")
+    ap.add_argument("--val-episodes", type=int, default=None,
+                    help="validation episodes per evaluation (the same scenarios each time, one per eval env; "
+                         "default: the protocol's)")
     ap.add_argument("--val-seed", type=int, default=VALIDATION.start,
                     help=f"seed of the validation scenarios (agents.protocol: validation {VALIDATION.start}.., "
                          f"test {TEST.start}..)")
@@ -223,8 +232,19 @@ def announce_outputs(out: Path, evaluated: bool, tensorboard_dir: Path | None) -
         print(f"  {what:<17} {str(path):<{width}}   {cmd}")
 
 
+def protocol_defaults(args: argparse.Namespace) -> argparse.Namespace:
+    """Fill the options left out with the chosen protocol's numbers (agents.protocol)."""
+    v2 = args.protocol >= 2
+    if args.timesteps is None:
+        args.timesteps = P.V2_STEP_BUDGET_PER_RUN if v2 else STEP_BUDGET_PER_RUN
+    if args.val_episodes is None:
+        args.val_episodes = P.V2_VALIDATION_EPISODES_IN_TRAINING if v2 else VALIDATION_EPISODES_IN_TRAINING
+    args.snapshot_at = P.V2_EARLY_ROW_STEPS if v2 and args.timesteps > P.V2_EARLY_ROW_STEPS else None
+    return args
+
+
 def main(argv: list[str] | None = None) -> int:
-    args = build_parser().parse_args(argv)
+    args = protocol_defaults(build_parser().parse_args(argv))
     if args.timesteps < 1 or args.n_envs < 1:
         raise SystemExit("train.py: --timesteps and --n-envs must be >= 1")
     import numba
@@ -259,7 +279,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"note: tier {args.tier}, {args.episode_steps}-step episodes: not the benchmark's definition "
               f"(tier {DEFAULT_TIER}, {EPISODE_STEPS} steps), results are not comparable with the leaderboard",
               flush=True)
-    print(f"train.py: {args.algo.upper()} on BearingPreload-v0 (tier {args.tier}), {args.timesteps:,} steps on {args.n_envs} "
+    print(f"train.py: {args.algo.upper()} (protocol {args.protocol}) on BearingPreload-v0 (tier {args.tier}), {args.timesteps:,} steps on {args.n_envs} "
           f"envs (seed {args.seed}), then {args.eval_episodes} held-out evaluation episodes; output in {out}/",
           flush=True)
     warm_up_kernels(args.n_envs)
@@ -288,11 +308,11 @@ def main(argv: list[str] | None = None) -> int:
     else:
         if args.resume:
             print(f"no checkpoint in {ckpt_dir}: starting a new run")
-        hp = hyperparams(args.algo)
+        hp = hyperparams(args.algo, args.protocol)
         # the return it normalises rewards by: from protocol v2 on the algorithm's discount (as RL Zoo
         # does, and protocol v2's search); protocol v1's runs used SB3's default 0.99
         env = VecNormalize(env, norm_obs=True, norm_reward=True, clip_obs=10.0,
-                           gamma=hp.get("gamma", 0.99) if PROTOCOL_VERSION >= 2 else 0.99)
+                           gamma=hp.get("gamma", 0.99) if args.protocol >= 2 else 0.99)
         try:
             import tensorboard  # noqa: F401
             tb = str(out / "tensorboard")
@@ -306,7 +326,7 @@ def main(argv: list[str] | None = None) -> int:
     resumed = bool(args.resume and latest)
     callbacks = CallbackList([
         ValidationCallback(eval_env, validation_seed=args.val_seed, resume=resumed, n_eval_episodes=args.val_episodes,
-                           progress_every_s=PROGRESS_EVERY_S,
+                           progress_every_s=PROGRESS_EVERY_S, snapshot_at=args.snapshot_at,
                            eval_freq=max(1, args.eval_freq // per_env), best_model_save_path=str(out / "eval"),
                            log_path=str(out / "eval"), deterministic=True),
         CheckpointCallback(save_freq=max(1, args.checkpoint_freq // per_env), save_path=str(ckpt_dir),

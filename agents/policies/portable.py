@@ -191,10 +191,13 @@ def source_digest(model_dir: str | Path) -> str:
 
 
 def is_current(model_dir: str | Path) -> bool:
-    """True if ``portable_policy.npz`` exists and was exported from the model files there now."""
+    """True if ``portable_policy.npz`` exists and was exported from the model files there now, or
+    no ``model.zip`` is there (a collected protocol-v2 run keeps its export only)."""
     path = Path(model_dir) / PORTABLE_FILE
     if not path.exists():
         return False
+    if not (Path(model_dir) / "model.zip").exists():
+        return True
     with np.load(path) as data:
         return "source_sha256" in data.files and str(data["source_sha256"]) == source_digest(model_dir)
 

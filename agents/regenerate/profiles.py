@@ -73,7 +73,7 @@ FULL = Profile(
     contextual_episodes=P.CONTEXTUAL_FIT_EPISODES, contextual_grid_step_n=P.CONTEXTUAL_GRID_STEP_N,
     reward_map={},                        # the module's grid (81 cells x 18 preloads, 25 intervals)
     stability_table={},                   # the module's grid
-    start_bank={"tier": "transient", "first": 0, "stop": 1024},
+    start_bank={"tier": "transient", "first": 0, "stop": P.V2_START_BANK_STARTS},   # protocol v2: a run meets no start twice
     model_dirs=trained_runs(), breakdown_tiers=("transient", "stationary", "field"),
     chaos={"tier": "transient", "replicas": 5, "episodes": P.TEST_EPISODES},
     tier_gap={"tier": "transient", "seed": P.TIER_DESIGN.start, "episodes": 20, "grid_step": 50.0, "horizon": 10,

@@ -21,6 +21,7 @@ The validation seeds must differ from the held-out test seeds of ``agents.evalua
 from __future__ import annotations
 
 import json
+import shutil
 import math
 import time
 from pathlib import Path
@@ -52,6 +53,10 @@ class ValidationCallback(EvalCallback):
         beat the earlier best, and the validation history in ``log_path/evaluations.npz`` is
         extended rather than overwritten. A new run (``False``) deletes an earlier run's best
         files, so that they cannot be selected as this run's.
+    :param snapshot_at: env steps (a validation point) at which the best checkpoint so far is also
+        copied to ``best_model_save_path/by_<steps>/`` (the run's row at that budget: the checkpoint
+        validation selects among those up to it); None: no copy. A resumed run keeps a copy made
+        by an earlier session.
     :param verbose: 1 (default) prints one line when a validation starts and one with its result
         (in the voice of train.py's progress lines; SB3's own ``Eval num_timesteps=...`` lines
         are not printed), 0 nothing.
@@ -59,8 +64,9 @@ class ValidationCallback(EvalCallback):
     """
 
     def __init__(self, eval_env, validation_seed: int, best_model_save_path: str, resume: bool = False,
-                 progress_every_s: float | None = None, verbose: int = 1, **kwargs):
+                 progress_every_s: float | None = None, verbose: int = 1, snapshot_at: int | None = None, **kwargs):
         super().__init__(eval_env, best_model_save_path=best_model_save_path, verbose=0, **kwargs)
+        self.snapshot_at = snapshot_at
         self.report = int(verbose)
         self.validation_seed = int(validation_seed)
         self.progress_every_s = progress_every_s
@@ -70,6 +76,8 @@ class ValidationCallback(EvalCallback):
         if not resume:
             for name in (BEST_MODEL, BEST_VECNORMALIZE, BEST_INFO, "validation_returns.npz", "evaluations.npz"):
                 (self.best_dir / name).unlink(missing_ok=True)
+            if snapshot_at is not None:
+                shutil.rmtree(self.snapshot_dir, ignore_errors=True)
         elif info.exists():
             self.best_mean_reward = float(json.loads(info.read_text())["mean_validation_return"])
         self._by_env: dict[int, float] = {}
@@ -125,7 +133,19 @@ class ValidationCallback(EvalCallback):
                  "num_timesteps": int(self.num_timesteps),
                  "validation_seed": self.validation_seed,
                  "episodes": int(self.n_eval_episodes)}, indent=2))
+        if due and self.snapshot_at is not None and self.num_timesteps >= self.snapshot_at \
+                and not (self.snapshot_dir / BEST_INFO).exists():
+            self.snapshot_dir.mkdir(parents=True, exist_ok=True)
+            for name in (BEST_MODEL, BEST_VECNORMALIZE, BEST_INFO):
+                if (self.best_dir / name).exists():
+                    shutil.copyfile(self.best_dir / name, self.snapshot_dir / name)
+            if self.report >= 1:
+                print(f"the best checkpoint up to {self.snapshot_at:,} steps kept in {self.snapshot_dir}", flush=True)
         return keep_going
+
+    @property
+    def snapshot_dir(self) -> Path:
+        return self.best_dir / f"by_{self.snapshot_at}"
 
     def _per_seed_path(self) -> Path | None:
         # log_path is "<dir>/evaluations" (SB3 appends .npz); the per-seed file goes beside it

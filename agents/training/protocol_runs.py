@@ -24,6 +24,14 @@ count (the environments are stepped independently). On the 2-core machine it doe
 SAC runs side by side (2 + 1 threads) made 79 env steps/s together, one run alone about 80-90,
 so the protocol's runs go one after another.
 
+**Protocol v2** (``--protocol 2``; agents.protocol's ``V2_*``): every V2 algorithm with each V2
+seed, ``train.py --protocol 2`` (its tuned yml, ``V2_STEP_BUDGET_PER_RUN`` steps, validation on
+``V2_VALIDATION_EPISODES_IN_TRAINING`` episodes, the shipped start bank of ``V2_START_BANK_STARTS``
+starts, the best checkpoint up to ``V2_EARLY_ROW_STEPS`` kept too) in ``runs/protocol_v2/A_sS``;
+collected into ``agents/trained_v2/A/seed_S/``: the portable exports of the selected checkpoint
+and of the early row (``by_<steps>/``), config and validation logs (:data:`COLLECT_V2`; the SB3
+files stay in the work directory).
+
 ``--ship`` copies, per algorithm, the run with the best validation return of its selected
 checkpoint (validation episodes only: the test seeds choose nothing) to
 ``agents/pretrained/<algo>/`` (model.zip + vec_normalize.pkl + config.json), the shipped
@@ -44,7 +52,7 @@ from pathlib import Path
 from bearing_gym.task import DEFAULT_TIER
 
 from agents import protocol as P
-from agents.paths import PRETRAINED_DIR, TRAINED_DIR, checkout_root, require_checkout, runs_dir
+from agents.paths import PRETRAINED_DIR, TRAINED_DIR, checkout_root, require_checkout, runs_dir, start_bank_path
 
 
 __all__ = ["RUNS", "run_dir", "collected_dir", "is_done", "is_running", "best_checkpoint", "run_summary", "train_run", "collect", "ship", "main"]
@@ -58,6 +66,18 @@ COLLECT = ("model.zip", "vec_normalize.pkl", "config.json", "eval/validation_ret
 RUNS = [(a, k, s) for a in sorted(P.ALGORITHMS, key=lambda a: a != P.HEADLINE_ALGORITHM)
         for k, s in enumerate(P.training_seeds(a))]
 
+# -- protocol v2 (agents.protocol V2_*): its own work and collection directories ------------------
+WORK_DIR_V2 = runs_dir("protocol_v2")
+TRAINED_DIR_V2 = TRAINED_DIR.with_name("trained_v2")
+#: the early row's files (the best checkpoint up to V2_EARLY_ROW_STEPS) inside a run
+EARLY = f"by_{P.V2_EARLY_ROW_STEPS}"
+#: what a v2 run keeps in git: its portable exports (the selected checkpoint's and the early
+#: row's; the SB3 files stay in the work directory: CrossQ's wide critics and every optimizer
+#: state would put tens of MB per run in the repository), config and validation logs
+COLLECT_V2 = ("portable_policy.npz", "config.json", "eval/validation_returns.npz", "eval/evaluations.npz",
+              "eval/best.json", f"{EARLY}/portable_policy.npz", f"{EARLY}/config.json", f"{EARLY}/best.json")
+RUNS_V2 = [(a, k, s) for a in P.V2_ALGORITHMS for k, s in enumerate(P.v2_training_seeds())]
+
 
 def run_dir(algo: str, seed: int) -> Path:
     return WORK_DIR / f"{algo}_s{seed}"
@@ -67,9 +87,9 @@ def collected_dir(algo: str, seed: int, trained_dir: Path = TRAINED_DIR) -> Path
     return trained_dir / algo / f"seed_{seed}"
 
 
-def is_done(algo: str, seed: int, trained_dir: Path = TRAINED_DIR) -> bool:
+def is_done(algo: str, seed: int, trained_dir: Path = TRAINED_DIR, budget: int = P.STEP_BUDGET_PER_RUN) -> bool:
     cfg = collected_dir(algo, seed, trained_dir) / "config.json"
-    return cfg.exists() and json.loads(cfg.read_text()).get("num_timesteps", 0) >= P.STEP_BUDGET_PER_RUN
+    return cfg.exists() and json.loads(cfg.read_text()).get("num_timesteps", 0) >= budget
 
 
 def _holder(lock: Path) -> int | None:
@@ -128,34 +148,73 @@ def run_summary(algo: str, seed: int, trained_dir: Path = TRAINED_DIR) -> str:
 
 
 def train_args(algo: str, seed: int, out: Path, budget: int = P.STEP_BUDGET_PER_RUN,
-               threads: int | None = None) -> list[str]:
-    """train.py's arguments for one protocol run (the frozen protocol draws every training start
-    afresh: no start bank)."""
-    return ["--algo", algo, "--seed", str(seed), "--timesteps", str(budget), "--n-envs", "2",
-            "--tier", DEFAULT_TIER, "--eval-episodes", "0",
-            "--val-episodes", str(P.VALIDATION_EPISODES_IN_TRAINING), "--val-seed", str(P.VALIDATION.start),
+               threads: int | None = None, protocol: int = 1) -> list[str]:
+    """train.py's arguments for one protocol run. Protocol 1 draws every training start afresh
+    (no start bank); protocol 2 draws the shipped bank's (V2_START_BANK_STARTS starts, each once)."""
+    val = P.VALIDATION_EPISODES_IN_TRAINING if protocol == 1 else P.V2_VALIDATION_EPISODES_IN_TRAINING
+    bank = "none" if protocol == 1 else str(start_bank_path(DEFAULT_TIER))
+    return ["--protocol", str(protocol), "--algo", algo, "--seed", str(seed), "--timesteps", str(budget),
+            "--n-envs", "2", "--tier", DEFAULT_TIER, "--eval-episodes", "0",
+            "--val-episodes", str(val), "--val-seed", str(P.VALIDATION.start),
             "--eval-freq", str(P.VALIDATION_EVERY_STEPS), "--out", str(out), "--no-progress",
-            "--start-bank", "none"] + (["--threads", str(threads)] if threads is not None else [])
+            "--start-bank", bank] + (["--threads", str(threads)] if threads is not None else [])
 
 
-def collect(src: Path, dst: Path) -> None:
-    """Copy a finished run's small files (:data:`COLLECT`) from ``src`` to ``dst``."""
-    for name in COLLECT:
+def check_v2_bank() -> None:
+    """SystemExit unless the shipped start bank holds protocol v2's starts (a run must not meet a
+    start twice)."""
+    from bearing_gym.envs import start_bank as banks
+    path = start_bank_path(DEFAULT_TIER)
+    n = len(banks.load(path)) if path.exists() else 0
+    if n < P.V2_START_BANK_STARTS:
+        raise SystemExit(f"protocol v2 trains on a start bank of {P.V2_START_BANK_STARTS} starts; {path} holds {n}: "
+                         f"python -m agents.regenerate --only start_bank")
+
+
+def export_v2(src: Path) -> None:
+    """The portable exports of a finished v2 run in ``src``: the selected checkpoint's (beside its
+    model.zip) and the early row's (``src/by_<steps>/``: its best checkpoint copied as model.zip,
+    vec_normalize.pkl and config.json, then exported)."""
+    from agents.evaluation.trained import export
+    early = src / "eval" / EARLY
+    if not (early / "best_model.zip").exists():
+        raise FileNotFoundError(f"{early}: no best checkpoint up to {P.V2_EARLY_ROW_STEPS:,} steps (the run is not "
+                                "finished)")
+    dst = src / EARLY
+    dst.mkdir(exist_ok=True)
+    shutil.copyfile(early / "best_model.zip", dst / "model.zip")
+    shutil.copyfile(early / "best_vec_normalize.pkl", dst / "vec_normalize.pkl")
+    shutil.copyfile(early / "best.json", dst / "best.json")
+    cfg = json.loads((src / "config.json").read_text())
+    info = json.loads((early / "best.json").read_text())
+    cfg.update(selected=f"best validation checkpoint up to {P.V2_EARLY_ROW_STEPS:,} steps",
+               selected_timesteps=info["num_timesteps"], selected_validation_return=info["mean_validation_return"])
+    (dst / "config.json").write_text(json.dumps(cfg, indent=2))
+    export(src)
+    export(dst)
+
+
+def collect(src: Path, dst: Path, files: tuple[str, ...] = COLLECT) -> None:
+    """Copy a finished run's small files (:data:`COLLECT`; :data:`COLLECT_V2` for protocol 2)
+    from ``src`` to ``dst``."""
+    for name in files:
         if not (src / name).exists():
             raise FileNotFoundError(f"{src / name}: the run is not finished (train.py writes it at the end)")
-    for name in COLLECT:
+    for name in files:
         (dst / name).parent.mkdir(parents=True, exist_ok=True)
         shutil.copyfile(src / name, dst / name)
 
 
 def train_run(algo: str, seed: int, budget: int = P.STEP_BUDGET_PER_RUN, trained_dir: Path = TRAINED_DIR,
-              work_dir: Path | None = None, threads: int | None = None) -> Path:
+              work_dir: Path | None = None, threads: int | None = None, protocol: int = 1) -> Path:
     """Train one run with train.py (resuming its checkpoints if an earlier attempt left them)
     and collect it; returns the collected directory."""
-    out = (work_dir or WORK_DIR) / f"{algo}_s{seed}"
+    out = (work_dir or (WORK_DIR if protocol == 1 else WORK_DIR_V2)) / f"{algo}_s{seed}"
+    if protocol >= 2:
+        check_v2_bank()
     lock = _take_lock(out, f"{algo} seed {seed}")
     try:
-        args = train_args(algo, seed, out, budget, threads)
+        args = train_args(algo, seed, out, budget, threads, protocol)
         if (out / "checkpoints").exists():
             args.append("--resume")
         t0 = time.time()
@@ -173,7 +232,9 @@ def train_run(algo: str, seed: int, budget: int = P.STEP_BUDGET_PER_RUN, trained
     if rc:
         raise SystemExit(f"train.py failed ({rc}) for {algo} seed {seed}")
     dst = collected_dir(algo, seed, trained_dir)
-    collect(out, dst)
+    if protocol >= 2:
+        export_v2(out)
+    collect(out, dst, COLLECT if protocol == 1 else COLLECT_V2)
     print(f"collected into {dst} ({(time.time() - t0) / 60:.1f} min)", flush=True)
     return dst
 
@@ -201,37 +262,51 @@ def main(argv: list[str] | None = None) -> int:
     g = ap.add_mutually_exclusive_group(required=True)
     g.add_argument("--list", action="store_true", help="the protocol's runs and which are done")
     g.add_argument("--next", action="store_true", help="train the first run not done yet")
-    g.add_argument("--algo", choices=P.ALGORITHMS, help="train this algorithm's run --run")
+    g.add_argument("--algo", choices=sorted(set(P.ALGORITHMS) | set(P.V2_ALGORITHMS)),
+                   help="train this algorithm's run --run")
     g.add_argument("--ship", action="store_true", help="copy each algorithm's best run to agents/pretrained/")
     ap.add_argument("--run", type=int, default=0, help="run index (0 .. seeds-1) with --algo")
     ap.add_argument("--threads", type=int, help="numba threads per run (train.py --threads; default one per env, at most the cores)")
+    ap.add_argument("--protocol", type=int, choices=(1, 2), default=1,
+                    help="1: the committed board's runs (agents/trained/); 2: protocol v2's (agents/trained_v2/)")
     a = ap.parse_args(argv)
+    v2 = a.protocol >= 2
+    runs = RUNS_V2 if v2 else RUNS
+    trained = TRAINED_DIR_V2 if v2 else TRAINED_DIR
+    budget = P.V2_STEP_BUDGET_PER_RUN if v2 else P.STEP_BUDGET_PER_RUN
+    work = WORK_DIR_V2 if v2 else WORK_DIR
+    kw = dict(budget=budget, trained_dir=trained, work_dir=work, threads=a.threads, protocol=a.protocol)
     if a.threads is not None and a.threads < 1:
         ap.error(f"--threads must be >= 1, got {a.threads}")
     if a.list:
-        for algo, k, seed in RUNS:
-            state = "done" if is_done(algo, seed) else "training" if is_running(algo, seed) else "to do"
-            print(f"{algo:9s} run {k} seed {seed:6d}: {state}{run_summary(algo, seed)}")
-        print(f"budget {P.STEP_BUDGET_PER_RUN:,} env steps per run")
+        for algo, k, seed in runs:
+            state = ("done" if is_done(algo, seed, trained, budget) else "training" if is_running(algo, seed, work)
+                     else "to do")
+            print(f"{algo:9s} run {k} seed {seed:6d}: {state}{run_summary(algo, seed, trained)}")
+        print(f"protocol {a.protocol}: budget {budget:,} env steps per run")
         return 0
     if a.ship:
+        if v2:
+            raise SystemExit("--ship: protocol 2's shipped policies are chosen when its board is built")
         ship()
         return 0
     if a.next:
-        todo = [(algo, seed) for algo, _, seed in RUNS if not is_done(algo, seed)]
+        todo = [(algo, seed) for algo, _, seed in runs if not is_done(algo, seed, trained, budget)]
         if not todo:
             print("every protocol run is done")
             return 0
-        free = [r for r in todo if not is_running(*r)]
+        free = [r for r in todo if not is_running(*r, work)]
         if not free:
             print("every protocol run not done is being trained")
             return 0
-        train_run(*free[0], threads=a.threads)
+        train_run(*free[0], **kw)
         return 0
-    seeds = P.training_seeds(a.algo)
+    seeds = P.v2_training_seeds() if v2 else P.training_seeds(a.algo)
+    if v2 and a.algo not in P.V2_ALGORITHMS or not v2 and a.algo not in P.ALGORITHMS:
+        raise SystemExit(f"--algo {a.algo} is not one of protocol {a.protocol}'s algorithms")
     if not 0 <= a.run < len(seeds):
         raise SystemExit(f"--run must be in 0..{len(seeds) - 1} for {a.algo}")
-    train_run(a.algo, seeds[a.run], threads=a.threads)
+    train_run(a.algo, seeds[a.run], **kw)
     return 0
 
 

@@ -11,11 +11,15 @@ from agents.paths import HYPERPARAMS_DIR
 __all__ = ["hyperparams", "load_start_bank", "make_env"]
 
 
-def hyperparams(algo: str) -> dict:
-    """The SB3 keyword arguments of ``algo``'s RL Zoo file (agents/hyperparams/<algo>.yml): its
-    settings without RL Zoo's own keys, ``policy_kwargs`` evaluated from its string."""
+def hyperparams(algo: str, protocol: int = 1) -> dict:
+    """The SB3 keyword arguments of ``algo``'s RL Zoo file (agents/hyperparams/<algo>.yml; protocol
+    2's tuned ones in agents/hyperparams/v2/): its settings without RL Zoo's own keys,
+    ``policy_kwargs`` evaluated from its string."""
     import yaml
-    path = HYPERPARAMS_DIR / f"{algo}.yml"
+    path = HYPERPARAMS_DIR / ("" if protocol == 1 else f"v{protocol}") / f"{algo}.yml"
+    if not path.exists():
+        raise SystemExit(f"no hyperparameters for {algo} under protocol {protocol}: {path} is missing (protocol 2's "
+                         f"come from its search: python -m agents.training.tuning --algo {algo} --until HH:MM)")
     cfg = yaml.safe_load(path.read_text())["BearingPreload-v0"]
     out = {k: v for k, v in cfg.items() if k not in ("n_timesteps", "policy", "normalize", "n_envs", "policy_kwargs", "env_kwargs")}
     if "policy_kwargs" in cfg:

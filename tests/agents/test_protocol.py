@@ -98,3 +98,25 @@ def test_the_shipped_start_bank_holds_training_seeds_only():
     from bearing_gym.envs import start_bank as banks
     bank = banks.load(banks.shipped_path("transient"), check_kernel=False)
     assert bank.seeds and all(protocol.range_of(s) == "train" for s in bank.seeds)
+
+
+def test_protocol_v2_freezes_its_references_and_fits_its_bank():
+    """The planner's and the causal MPC's default settings are the ones whose digests protocol v2
+    stored before its runs (a change of either is a new protocol version), and v2's rules hold:
+    the start bank covers a run's episodes, the run seeds end below the tuning blocks."""
+    import hashlib
+    import json
+
+    from agents.policies.causal_mpc import CausalMPCSettings
+    from agents.policies.planner import PlannerSettings
+    from bearing_gym.task import EPISODE_STEPS
+    planner = hashlib.sha256(json.dumps(PlannerSettings().as_dict(), sort_keys=True).encode()).hexdigest()[:16]
+    assert planner == protocol.V2_PLANNER_SETTINGS_SHA256
+    assert CausalMPCSettings().digest() == protocol.V2_CAUSAL_MPC_SETTINGS_SHA256
+    assert protocol.V2_START_BANK_STARTS * EPISODE_STEPS >= protocol.V2_STEP_BUDGET_PER_RUN
+    assert set(protocol.V2_ALGORITHMS) >= {"sac", "tqc", "crossq", "ppo", "ppo_lstm"} and protocol.V2_SEEDS >= 5
+    assert max(protocol.v2_training_seeds()) + protocol.RUN_SEED_STRIDE <= protocol.TUNING_TRAIN_SEED
+    with pytest.raises(ValueError, match="meet a start twice"):
+        protocol.check_protocol(V2_START_BANK_STARTS=protocol.V2_STEP_BUDGET_PER_RUN // EPISODE_STEPS - 1)
+    with pytest.raises(ValueError, match="validation point"):
+        protocol.check_protocol(V2_EARLY_ROW_STEPS=105_000)

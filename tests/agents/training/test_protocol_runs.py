@@ -113,3 +113,22 @@ def test_the_lock_names_the_train_py_process_while_it_runs(tmp_path, monkeypatch
     run = tmp_path / "w" / "sac_s1000"
     assert (run / "lock_named_me").read_text() == "yes"
     assert not (run / ".running").exists()         # released when train.py ended
+
+
+def test_protocol_v2_runs_are_its_algorithms_and_seeds_at_its_budget_on_the_bank(tmp_path, monkeypatch):
+    """Every V2 algorithm x V2 seed; train.py reads protocol 2's settings (its tuned yml, the
+    budget, 50 validation episodes) and the shipped start bank, and refuses a bank smaller than
+    the protocol's."""
+    assert sorted(T.RUNS_V2) == sorted((a, k, s) for a in P.V2_ALGORITHMS for k, s in enumerate(P.v2_training_seeds()))
+    sys.path.insert(0, str(Path(__file__).resolve().parents[3]))
+    import train
+    a = train.protocol_defaults(train.build_parser().parse_args(
+        T.train_args("tqc", 2000, tmp_path / "r", P.V2_STEP_BUDGET_PER_RUN, protocol=2)))
+    assert a.protocol == 2 and a.timesteps == P.V2_STEP_BUDGET_PER_RUN and a.val_episodes == 50
+    assert a.snapshot_at == P.V2_EARLY_ROW_STEPS and a.start_bank.endswith("start_bank_transient.npz")
+    assert T.TRAINED_DIR_V2 != T.TRAINED_DIR and T.WORK_DIR_V2 != T.WORK_DIR
+    from bearing_gym.envs import start_bank as banks
+    n = len(banks.load(banks.shipped_path("transient"), check_kernel=False))
+    monkeypatch.setattr(P, "V2_START_BANK_STARTS", n + 1)
+    with pytest.raises(SystemExit, match=f"start bank of {n + 1} starts; .* holds {n}"):
+        T.check_v2_bank()

@@ -352,3 +352,43 @@ def test_the_shipped_start_bank_is_this_kernels_settles(monkeypatch):
         for fresh, stored in zip(state, bank.states[digest]):
             np.testing.assert_array_equal(fresh, stored)
     assert banks.rebuild_command(bank.tier, bank.seeds, path).endswith(f"--seeds 0 1024 --out {path}")
+
+
+def test_the_early_row_keeps_the_best_checkpoint_up_to_its_step_and_exports_portably(tmp_path, monkeypatch):
+    """Protocol v2's early row: the ValidationCallback copies the best checkpoint so far when the
+    run reaches ``snapshot_at`` and never again (a later, better checkpoint replaces the run's
+    selection, not the copy); a finished run's portable exports are collected without model.zip
+    and load as the same policy as its SB3 files."""
+    sys.path.insert(0, str(ROOT))
+    import json
+
+    import train
+    from agents.evaluation.trained import load_trained
+    from agents.training import protocol_runs as T
+    from agents.training.callbacks import BEST_INFO
+
+    out = tmp_path / "run"
+    monkeypatch.setattr(train, "protocol_defaults", lambda a: (setattr(a, "snapshot_at", 32), a)[1]
+                        if a.timesteps is not None and a.val_episodes is not None else a)
+    rc = train.main(["--algo", "ppo", "--timesteps", "96", "--n-envs", "2", "--out", str(out), "--eval-episodes", "0",
+                     "--eval-freq", "16", "--val-episodes", "2", "--episode-steps", "8", "--no-progress",
+                     "--start-bank", "none"])
+    assert rc == 0
+    snap = json.loads((out / "eval" / "by_32" / BEST_INFO).read_text())
+    best = json.loads((out / "eval" / BEST_INFO).read_text())
+    with np.load(out / "eval" / "evaluations.npz") as log:
+        steps, means = log["timesteps"], log["results"].mean(axis=1)
+    upto = steps <= 32
+    assert snap["num_timesteps"] == int(steps[upto][np.argmax(means[upto])])     # the first best among those
+    assert best["num_timesteps"] == int(steps[np.argmax(means)])
+    # collect as protocol 2 does (its early row under by_<V2_EARLY_ROW_STEPS>)
+    monkeypatch.setattr(T, "EARLY", "by_32")
+    T.export_v2(out)
+    files = tuple(f.replace(f"by_{T.P.V2_EARLY_ROW_STEPS}", "by_32") for f in T.COLLECT_V2)
+    dst = tmp_path / "collected"
+    T.collect(out, dst, files)
+    assert not (dst / "model.zip").exists() and (dst / "by_32" / "portable_policy.npz").exists()
+    obs = np.random.default_rng(0).normal(size=(5, 15)).astype(np.float32)
+    a_collected, _ = load_trained(dst, portable=True).predict(obs)
+    a_run, _ = load_trained(out, portable=True).predict(obs)
+    np.testing.assert_array_equal(a_collected, a_run)
