@@ -3,7 +3,7 @@ training seeds: coordinate ascent of the mean return.
 
     python -m agents.references.speed_schedule_fit --tier transient --kind 2-level    # agents/data/speed_schedule_<tier>_<kind>.json
 
-Each ``kind`` starts from the tier's validation constant at every level, then, ``rounds`` times,
+Each ``kind`` starts from the tier's validation constant (protocol v2's rule) at every level, then, ``rounds`` times,
 sets one coordinate at a time - a threshold among ``THRESHOLD_CANDIDATES_RPM`` (kept increasing),
 a level on the ``grid_step_n`` preload grid - to the candidate with the best mean return on the
 fit episodes, the others held (ties keep the current value, then the first candidate). Every
@@ -29,6 +29,7 @@ from agents import protocol as P
 from agents.evaluation.episodes import run_policies
 from agents.paths import DATA_DIR
 from agents.policies.speed_schedule import SpeedSchedule
+from agents.references.ascent import coordinate_ascent
 
 __all__ = ["KINDS", "THRESHOLD_CANDIDATES_RPM", "TABLE_KNOTS_RPM", "initial", "fit_schedule", "schedule_path",
            "main"]
@@ -68,10 +69,6 @@ def _variants(s: SpeedSchedule, coord: str, grid: tuple[float, ...]) -> list[Spe
     return [SpeedSchedule(s.thresholds_rpm, s.levels_n[:k] + (p,) + s.levels_n[k + 1:], s.interpolate) for p in grid]
 
 
-def _same(a: SpeedSchedule, b: SpeedSchedule) -> bool:
-    return a.to_json() == b.to_json()
-
-
 def fit_schedule(tier: str, kind: str, episodes: int = P.SCHEDULE_FIT_EPISODES, seed: int = P.SCHEDULE_FIT_SEED,
                  episode_steps: int = EPISODE_STEPS, grid_step_n: float = P.CONTEXTUAL_GRID_STEP_N,
                  rounds: int = P.SCHEDULE_FIT_ROUNDS, start_n: float | None = None,
@@ -90,29 +87,15 @@ def fit_schedule(tier: str, kind: str, episodes: int = P.SCHEDULE_FIT_EPISODES, 
             return np.array([float(np.mean(r.returns)) for r in ran])
     if start_n is None:
         from agents.references.store import load_choice
-        start_n = load_choice(tier).preload_n
+        choice = load_choice(tier)
+        start_n = choice.preload_for_rule(P.V2_VALIDATION_RULE)
     grid = P.preload_grid(grid_step_n)
     start_n = min(grid, key=lambda p: abs(p - start_n))
-    s = initial(kind, start_n)
-    best = float(evaluate([s])[0])
-    history = [{"schedule": s.to_json(), "mean_return": best}]
     t0 = time.time()
-    for r in range(rounds):
-        for coord in _coordinates(s):
-            cands = _variants(s, coord, grid)
-            if not cands:
-                continue
-            values = evaluate(cands)
-            k = int(np.argmax(values))
-            current = next((i for i, c in enumerate(cands) if _same(c, s)), None)
-            if current is not None and values[current] >= values[k]:
-                k = current
-            s, best = cands[k], float(values[k])
-            history.append({"round": r, "coordinate": coord, "schedule": s.to_json(), "mean_return": best})
-            if progress:
-                progress(f"speed schedule {kind} on {tier}: round {r + 1}/{rounds}, {coord}: "
-                         f"{s.to_json()['levels_n']} at {s.thresholds_rpm} rpm, mean return {best:.2f} "
-                         f"({(time.time() - t0) / 60:.1f} min)")
+    s, best, history = coordinate_ascent(
+        initial(kind, start_n), _coordinates, lambda sch, coord: _variants(sch, coord, grid), evaluate, rounds,
+        key=lambda sch: json.dumps(sch.to_json(), sort_keys=True), describe=lambda sch: sch.to_json(),
+        progress=progress, label=f"speed schedule {kind} on {tier}")
     meta = {"tier": tier, "kind": kind, "seeds": [seed, seed + episodes - 1], "episode_steps": episode_steps,
             "grid_step_n": grid_step_n, "rounds": rounds, "mean_return": best, "history": history,
             "wall_s": time.time() - t0}
