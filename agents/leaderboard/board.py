@@ -69,6 +69,7 @@ from bearing_gym.envs.tiers import tier_is_deterministic
 from agents import protocol as P
 from agents.policies.contextual import DATA_DIR, ContextualConstant, contextual_path
 from agents.references.contextual_fit import fit_contextual
+from agents.leaderboard import baselines
 from agents.leaderboard.tables import pairwise_improvement, summarise, to_markdown
 from agents.evaluation.trained import PRETRAINED_DIR, SB3Policy, load_trained, shipped_dirs
 from agents.evaluation.episodes import hindsight_preloads, run_policies, sweep_row
@@ -255,14 +256,16 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
     r0, r1 = score_bounds(refs)
     shape = f"{s.episodes} test episodes of {s.episode_steps} steps"
     live_constant = [ConstantPreload(choice.preload_n)] if stored is not None else []
-    policies = live_constant + [contextual, MapOracle(oracle_table)] + [p for g in groups for p in g.policies]
+    industry = baselines.industry_policies(tier, contextual_dir)
+    policies = live_constant + [contextual, MapOracle(oracle_table)] + industry + [p for g in groups for p in g.policies]
     ran = run_policies(policies, s.episodes, seeds.start, s.episode_steps, env_kwargs={"tier": tier},
                        progress=f"{tier} stage {_stages(s, stored)}/{_stages(s, stored)}: {len(policies)} policies x {shape}"
                        if progress else None)
     if live_constant:
         refs.check_fresh(ran[0].returns, f"python -m agents.leaderboard --tier {tier}")
         ran = ran[1:]
-    contextual_res, oracle_res, learned_res = ran[0], ran[1], ran[2:]
+    contextual_res, oracle_res = ran[0], ran[1]
+    industry_res, learned_res = ran[2:2 + len(industry)], ran[2 + len(industry):]
     reps = dict(bootstrap_reps=s.bootstrap_reps, poi_reps=s.poi_reps)
 
     rows: dict[str, dict] = {}
@@ -274,6 +277,16 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
                                             features="squares" if contextual.squares else "linear",
                                             fit=contextual.meta)
     rows["oracle (reward map, nearest cell)"] = summarise("reference", [oracle_res], r0, r1, **reps)
+    for policy, res in zip(industry, industry_res):
+        rows[policy.name] = summarise(baselines.INDUSTRY_KIND, [res], r0, r1, **reps,
+                                      versus={"contextual constant": contextual_res})
+    mpc = baselines.causal_mpc_row(tier, s.episodes, s.episode_steps, contextual_dir)
+    if mpc is not None:
+        rows[mpc.name] = summarise(baselines.MODEL_BASED_KIND, [mpc], r0, r1, **reps,
+                                   versus={"contextual constant": contextual_res})
+    if P.PROTOCOL_VERSION >= 2:
+        deviations += [f"missing baseline: {m}" for m in baselines.missing(tier, s.episodes, s.episode_steps,
+                                                                            contextual_dir)]
     if refs.planner is not None:
         rows[PLANNER_ROW] = planner_row(refs, r0, r1, **reps)
     k = 0

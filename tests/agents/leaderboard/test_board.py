@@ -214,3 +214,47 @@ def test_keep_other_tiers_keeps_only_what_is_not_recomputed_and_only_under_one_p
                        ("statistics", {"bootstrap_reps": 10}), ("kernel_hash", None)):   # None: before the portable kernel
         with pytest.raises(ValueError, match=key):
             kept_tiers({**previous, key: other}, now, ["stationary"])
+
+
+def test_stored_industry_fits_and_causal_mpc_runs_become_rows_compared_pairwise(tmp_path, monkeypatch):
+    """A fitted speed switch and a tuned feedback rule stored for this kernel are rows of kind
+    industry (evaluated like any policy: their returns are those of the same policies run alone);
+    stored causal-MPC runs are replayed as a model-based row; every pair of industry rows gets its
+    probability of improvement; a fit of another kernel is left out."""
+    from agents import protocol as P
+    from agents.evaluation.episodes import run_policies
+    from agents.policies.causal_mpc import CausalMPCSettings
+    from agents.policies.scripted import FeedbackRule
+    from agents.policies.speed_schedule import SpeedSchedule
+    from agents.references import causal_mpc_runs
+    from agents.references.feedback_fit import feedback_path
+    from agents.references.speed_schedule_fit import schedule_path
+    from bearing_gym.envs.provenance import kernel_hash
+    s = leaderboard.SMOKE
+    switch = SpeedSchedule((17500.0,), (1400.0, 900.0))
+    schedule_path("transient", "2-level", tmp_path).write_text(json.dumps(
+        {"schedule": switch.to_json(), "kernel_hash": kernel_hash()}))
+    schedule_path("transient", "table", tmp_path).write_text(json.dumps(
+        {"schedule": SpeedSchedule((1e4, 2.5e4), (900.0, 1200.0), True).to_json(), "kernel_hash": "0" * 16}))
+    rule = {"start_n": 1500.0, "raise_n": 100.0, "lower_n": 5.0, "hold_steps": 5}
+    feedback_path("transient", tmp_path).write_text(json.dumps({"rule": rule, "kernel_hash": kernel_hash()}))
+    seeds = list(P.held_out_seeds(s.episodes))
+    small = CausalMPCSettings(candidates_n=(800.0, 1600.0), horizon=3, replan_every=5)
+    causal_mpc_runs.run("transient", seeds, small, s.episode_steps, data_dir=tmp_path)
+    import agents.leaderboard.baselines as B
+    monkeypatch.setattr(B, "causal_mpc_row", lambda tier, n, steps, data_dir: causal_mpc_runs.replay(
+        tier, causal_mpc_runs.load_runs(tier, n, small, steps, data_dir), steps))
+    tier = leaderboard.run_tier("transient", s, [], out_dir=tmp_path, progress=False, contextual_dir=tmp_path)
+    rows = tier["policies"]
+    kinds = {name: row["kind"] for name, row in rows.items()}
+    assert kinds["speed switch (2 levels) (fitted on training seeds)"] == "industry"
+    assert kinds["feedback rule (tuned on validation seeds)"] == "industry"
+    assert kinds[causal_mpc_runs.ROW_NAME] == "model-based"
+    assert not any(name.startswith("speed table") for name in rows)          # another kernel's fit
+    alone = run_policies([switch, FeedbackRule(**rule)], s.episodes, seeds[0], s.episode_steps,
+                         env_kwargs={"tier": "transient"})
+    assert rows["speed switch (2 levels) (fitted on training seeds)"]["episode_returns"] == [alone[0].returns.tolist()]
+    assert rows["feedback rule (tuned on validation seeds)"]["episode_returns"] == [alone[1].returns.tolist()]
+    pair = tier["pairwise_improvement"]["speed switch (2 levels) (fitted on training seeds)"]
+    p, lo, hi = pair["feedback rule (tuned on validation seeds)"]
+    assert 0.0 <= lo <= p <= hi <= 1.0
