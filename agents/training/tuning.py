@@ -235,7 +235,7 @@ def _write_yml(path: Path, algo: str, hp: dict[str, Any], best) -> None:
     """``hp`` as an RL Zoo file (``policy_kwargs`` as RL Zoo's string)."""
     lines = [f"# Protocol v{P.TUNING_PROTOCOL_VERSION}'s {algo}: the best trial ({best.number}, value {best.value:.4f}) of "
              f"python -m agents.training.tuning --algo {algo}", f"# (agents/tuning/{algo}.json has every trial).",
-             "BearingPreload-v0:", f"  n_timesteps: {P.STEP_BUDGET_PER_RUN}",
+             "BearingPreload-v0:", f"  n_timesteps: {P.V2_STEP_BUDGET_PER_RUN}",
              f"  policy: '{'MlpLstmPolicy' if algo == 'ppo_lstm' else 'MlpPolicy'}'", "  normalize: true",
              f"  n_envs: {S.N_ENVS}"]
     for k, v in hp.items():

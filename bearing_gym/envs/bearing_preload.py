@@ -168,7 +168,7 @@ class BearingPreloadEnv(TaskParts, gym.Env):
       ``"human"``: ``reset()`` and ``step()`` draw the frame themselves (``render()`` returns
       None), see *Rendering*.
     * ``start_bank``: ``"shipped"`` (the package's bank of the tier: ``transient``'s training seeds
-      0-1023), the path of a bank (``python -m bearing_gym.envs.start_bank``) or a
+      0-2047), the path of a bank (``python -m bearing_gym.envs.start_bank``) or a
       :class:`~bearing_gym.envs.start_bank.StartBank`: episodes draw its scenarios and start from
       its settled states (a reset costs ~0.5 env steps instead of ~36: ``benchmarks/bench_reset.py``). Refused if another kernel
       made it or it was made for another tier, horizon or env settings, and with ``scenario``.

@@ -17,7 +17,7 @@ and :func:`load` refuses a bank made by another kernel, naming the command that 
 :func:`check_fits` refuses one made for another tier, horizon or env settings.
 
 **From gymnasium.make.** The package ships a bank per tier where one is worth it
-(:func:`shipped_path`: ``transient``, training seeds 0-1023); any env takes one::
+(:func:`shipped_path`: ``transient``, training seeds 0-2047); any env takes one::
 
     env = gymnasium.make("BearingPreload-v0", start_bank="shipped")       # or a path, or a StartBank
     venv = BearingPreloadVectorEnv(num_envs=8, start_bank="shipped")
@@ -28,7 +28,7 @@ finite set of *training* scenarios, so an env built with it cannot draw the vali
 scenarios of a seed, nor pin a scenario through ``reset(options=...)``; train.py uses the
 shipped bank by default (``--start-bank``), in its own order (each start once before any repeats).
 
-    python -m bearing_gym.envs.start_bank --tier transient --seeds 0 1024 --out bank.npz
+    python -m bearing_gym.envs.start_bank --tier transient --seeds 0 2048 --out bank.npz
 """
 
 from __future__ import annotations

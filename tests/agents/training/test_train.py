@@ -21,7 +21,7 @@ def test_hyperparameter_files_load_for_rl_zoo_and_sb3():
     from sb3_contrib import RecurrentPPO
     from stable_baselines3 import PPO, SAC
 
-    from agents.protocol import STEP_BUDGET_PER_RUN
+    from agents.protocol import STEP_BUDGET_PER_RUN, V2_START_BANK_STARTS
     from bearing_gym.envs import BearingPreloadSB3VecEnv
     for algo, cls, policy in (("ppo", PPO, "MlpPolicy"), ("sac", SAC, "MlpPolicy"),
                               ("ppo_lstm", RecurrentPPO, "MlpLstmPolicy")):
@@ -332,7 +332,7 @@ def test_the_shipped_start_bank_is_this_kernels_settles(monkeypatch):
     from collections import OrderedDict
 
     from agents.paths import start_bank_path
-    from agents.protocol import STEP_BUDGET_PER_RUN
+    from agents.protocol import STEP_BUDGET_PER_RUN, V2_START_BANK_STARTS
     from bearing_gym.envs import BearingPreloadVectorEnv, core
     from bearing_gym.envs import start_bank as banks
     from bearing_gym.task import EPISODE_STEPS
@@ -340,7 +340,7 @@ def test_the_shipped_start_bank_is_this_kernels_settles(monkeypatch):
     import train
     path = start_bank_path("transient")
     bank = train.load_start_bank(path, "transient", EPISODE_STEPS)     # kernel, tier, horizon, env settings
-    assert len(bank) > STEP_BUDGET_PER_RUN / EPISODE_STEPS
+    assert len(bank) > STEP_BUDGET_PER_RUN / EPISODE_STEPS and len(bank) >= V2_START_BANK_STARTS
     assert len(set(bank.digests)) == len(bank)
     monkeypatch.setattr(core, "_SETTLED", OrderedDict())
     monkeypatch.setattr(core, "_BANKED", {})
@@ -351,7 +351,7 @@ def test_the_shipped_start_bank_is_this_kernels_settles(monkeypatch):
         assert digest == bank.digests[i] and venv.batch.scenarios[b] == bank.scenarios[i]
         for fresh, stored in zip(state, bank.states[digest]):
             np.testing.assert_array_equal(fresh, stored)
-    assert banks.rebuild_command(bank.tier, bank.seeds, path).endswith(f"--seeds 0 1024 --out {path}")
+    assert banks.rebuild_command(bank.tier, bank.seeds, path).endswith(f"--seeds 0 {V2_START_BANK_STARTS} --out {path}")
 
 
 def test_the_early_row_keeps_the_best_checkpoint_up_to_its_step_and_exports_portably(tmp_path, monkeypatch):
