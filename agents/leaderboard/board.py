@@ -121,7 +121,7 @@ def learned_groups(model_dirs: list[str | Path], pretrained: bool,
     """The learned rows: ``model_dirs`` grouped by (algorithm, tier) from their config.json
     (one directory per training seed), then one row per shipped policy in
     ``pretrained_dir/<algo>/`` if ``pretrained``."""
-    groups: dict[tuple[str, str, bool], LearnedGroup] = {}
+    groups: dict[tuple[str, str, bool, int | None], LearnedGroup] = {}
 
     def add(d: Path, algo: str | None, shipped: bool) -> None:
         cfg = _config(d)
@@ -130,10 +130,11 @@ def learned_groups(model_dirs: list[str | Path], pretrained: bool,
             raise ValueError(f"{d}: no config.json names the algorithm; train it with train.py or put the "
                              "model in agents/pretrained/<algo>/")
         tier = cfg.get("tier", DEFAULT_TIER)
-        key = (algo, tier, shipped)
+        early = cfg.get("early_row_steps")          # a protocol-v2 run's row at its early budget
+        key = (algo, tier, shipped, early)
         if key not in groups:
-            groups[key] = LearnedGroup(f"{algo.upper()} ({'shipped' if shipped else 'trained'})", algo, tier, [], [], [],
-                                       shipped=shipped)
+            label = "shipped" if shipped else "trained" if early is None else f"trained, best up to {early // 1000}k steps"
+            groups[key] = LearnedGroup(f"{algo.upper()} ({label})", algo, tier, [], [], [], shipped=shipped)
         g = groups[key]
         try:
             g.policies.append(load_trained(d, algo=algo, portable=True))   # the same bits on every CPU

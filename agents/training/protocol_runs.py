@@ -187,7 +187,8 @@ def export_v2(src: Path) -> None:
     shutil.copyfile(early / "best.json", dst / "best.json")
     cfg = json.loads((src / "config.json").read_text())
     info = json.loads((early / "best.json").read_text())
-    cfg.update(selected=f"best validation checkpoint up to {P.V2_EARLY_ROW_STEPS:,} steps",
+    cfg.update(early_row_steps=P.V2_EARLY_ROW_STEPS,
+               selected=f"best validation checkpoint up to {P.V2_EARLY_ROW_STEPS:,} steps",
                selected_timesteps=info["num_timesteps"], selected_validation_return=info["mean_validation_return"])
     (dst / "config.json").write_text(json.dumps(cfg, indent=2))
     export(src)
