@@ -23,16 +23,36 @@ from pathlib import Path
 import numpy as np
 
 
-__all__ = ["hindsight_constant", "scenario_gap", "main"]
+__all__ = ["hindsight_constant", "scenario_gap", "scenario_kwargs", "main"]
 
 
-def hindsight_constant(tier: str, seed: int, preloads_n: np.ndarray) -> tuple[float, float, np.ndarray]:
+def scenario_kwargs(tier: str, eccentricity_um: tuple[float, float] | None) -> dict:
+    """The env's keyword arguments for ``tier``, its unbalance (the rotor's mass-centre
+    eccentricity) drawn uniformly in ``eccentricity_um`` (um) instead if given, everything else as
+    the tier draws it (the realistic-balance study: ``--eccentricity-um 0.2 2.5``)."""
+    if eccentricity_um is None:
+        return {"tier": tier}
+    import dataclasses
+
+    from bearing_gym.envs.tiers import tier_parts
+    lo, hi = (float(x) for x in eccentricity_um)
+    if not 0.0 < lo <= hi <= 1000.0:
+        raise ValueError(f"--eccentricity-um takes 0 < LO <= HI <= 1000 (um), got {lo} {hi}")
+    dist = tier_parts(tier)["scenario"]
+    if not hasattr(dist, "eccentricity_m") or not dataclasses.is_dataclass(dist) or getattr(dist, "deterministic", False):
+        raise ValueError(f"--eccentricity-um needs a tier that draws its scenarios (not {tier!r})")
+    return {"tier": tier, "scenario": dataclasses.replace(dist, eccentricity_m=(lo * 1e-6, hi * 1e-6))}
+
+
+def hindsight_constant(tier: str, seed: int, preloads_n: np.ndarray,
+                       eccentricity_um: tuple[float, float] | None = None) -> tuple[float, float, np.ndarray]:
     """(best preload, its return, all returns) of the constants on the scenario of ``seed``."""
     from bearing_gym.envs import BearingPreloadEnv, BearingPreloadVectorEnv
-    probe = BearingPreloadEnv(tier=tier)
+    kw = scenario_kwargs(tier, eccentricity_um)
+    probe = BearingPreloadEnv(**kw)
     probe.reset(seed=seed)
     scenario = probe.scenario
-    venv = BearingPreloadVectorEnv(num_envs=len(preloads_n), tier=tier, max_episode_steps=None)
+    venv = BearingPreloadVectorEnv(num_envs=len(preloads_n), max_episode_steps=None, **kw)
     venv.reset(seed=seed, options={"scenario": scenario})
     actions = np.array([[venv.actuator.action_for(p)] for p in preloads_n])
     total = np.zeros(len(preloads_n))
@@ -46,7 +66,7 @@ def hindsight_constant(tier: str, seed: int, preloads_n: np.ndarray) -> tuple[fl
 
 
 def scenario_gap(args: tuple) -> dict:
-    tier, seed, grid_step, horizon, replan_every = args
+    tier, seed, grid_step, horizon, replan_every, eccentricity_um = args
     import numba
     numba.set_num_threads(1)                     # one process per core
     from bearing_gym.envs import BearingPreloadEnv
@@ -54,8 +74,8 @@ def scenario_gap(args: tuple) -> dict:
     from agents.policies.mpc import RecedingHorizonMPC
     t0 = time.time()
     preloads = np.arange(300.0, 2000.0 + 1e-9, grid_step)
-    best_p, best_r, _ = hindsight_constant(tier, seed, preloads)
-    env = BearingPreloadEnv(tier=tier)
+    best_p, best_r, _ = hindsight_constant(tier, seed, preloads, eccentricity_um)
+    env = BearingPreloadEnv(**scenario_kwargs(tier, eccentricity_um))
     mpc = RecedingHorizonMPC(horizon=horizon, replan_every=replan_every)
     out = mpc.run_episode(env, seed=seed)
     sc = env.scenario
@@ -64,7 +84,8 @@ def scenario_gap(args: tuple) -> dict:
             "mpc_quasi_periodic_fraction": out.quasi_periodic_fraction,
             "speed_profile": [list(k) for k in sc.speed_profile],
             "radial_load_profile": [list(k) for k in sc.radial_load_profile],
-            "clearance_um": sc.clearance_m * 1e6, "wall_s": time.time() - t0}
+            "clearance_um": sc.clearance_m * 1e6, "eccentricity_um": sc.eccentricity_m * 1e6,
+            "wall_s": time.time() - t0}
 
 
 def mpc_candidates() -> tuple[float, ...]:
@@ -90,6 +111,9 @@ def build_parser() -> argparse.ArgumentParser:
     ap.add_argument("--replan-every", type=int, default=5)
     ap.add_argument("--processes", type=int, default=2)
     ap.add_argument("--out", default=None, help="JSON file for the per-scenario results")
+    ap.add_argument("--eccentricity-um", nargs=2, type=float, metavar=("LO", "HI"),
+                    help="draw the rotor's unbalance (mass-centre eccentricity, um) uniformly in [LO, HI] instead of "
+                         "the tier's range, everything else as the tier (e.g. 0.2 2.5: G0.2 at 10,000 rpm to G6.5 at 25,000 rpm)")
     return ap
 
 
@@ -97,6 +121,7 @@ def run_settings(a: argparse.Namespace) -> dict:
     """What a stored row depends on besides its seed (a resumed run keeps only rows made so)."""
     from bearing_gym.envs.provenance import kernel_hash, package_version
     return {"tier": a.tier, "grid_step_n": a.grid_step,
+            **({"eccentricity_um": list(a.eccentricity_um)} if getattr(a, "eccentricity_um", None) else {}),
             "mpc": {"horizon": a.horizon, "replan_every": a.replan_every, "candidates": len(mpc_candidates())},
             "kernel_hash": kernel_hash(), "package_version": package_version()}
 
@@ -135,7 +160,9 @@ def main(argv: list[str] | None = None) -> None:
     rows = [done[s] for s in seeds if s in done]
     if rows:
         print(f"resuming: {len(rows)} of {len(seeds)} scenarios already in {a.out}", flush=True)
-    jobs = [(a.tier, s, a.grid_step, a.horizon, a.replan_every) for s in seeds if s not in done]
+    ecc = tuple(a.eccentricity_um) if a.eccentricity_um else None
+    scenario_kwargs(a.tier, ecc)                  # a bad range or tier: refused before any process starts
+    jobs = [(a.tier, s, a.grid_step, a.horizon, a.replan_every, ecc) for s in seeds if s not in done]
     with get_context("spawn").Pool(a.processes) as pool:
         for row in pool.imap(scenario_gap, jobs):
             rows.append(row)

@@ -226,11 +226,16 @@ def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(description=__doc__.split("\n\n")[0])
     ap.add_argument("--out", default="docs/reward_map.csv", help="CSV to write (a PNG beside it)")
     ap.add_argument("--plot-only", action="store_true", help="redraw the PNG from an existing CSV")
+    ap.add_argument("--eccentricities-um", nargs="+", type=float, metavar="UM",
+                    help="the rotor unbalance axis (mass-centre eccentricity, um; default "
+                         f"{' '.join(f'{e * 1e6:g}' for e in GRID_ECCENTRICITIES_M)}; e.g. 0.4 1 2.5 for G0.4-G2.5 "
+                         "balance at the tiers' speeds)")
     args = ap.parse_args(argv)
     if args.plot_only:
         pts = read_csv(args.out)
     else:
-        pts = reward_map(progress=lambda k, n: print(f"cell {k}/{n}", flush=True))
+        ecc = GRID_ECCENTRICITIES_M if not args.eccentricities_um else tuple(e * 1e-6 for e in args.eccentricities_um)
+        pts = reward_map(progress=lambda k, n: print(f"cell {k}/{n}", flush=True), eccentricities_m=ecc)
         write_csv(pts, args.out)
     plot(pts, Path(args.out).with_suffix(".png"))
     print(f"wrote {args.out} and {Path(args.out).with_suffix('.png')}")

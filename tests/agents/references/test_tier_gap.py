@@ -33,3 +33,25 @@ def test_a_rerun_keeps_only_rows_made_with_the_same_settings_and_kernel(tmp_path
     assert full["complete"] and full["mpc_wins"] == 3 and full["core_s"] == 6.0
     assert full["paired_mpc_minus_hindsight"] == pytest.approx(diff.mean(), abs=1e-12)
     assert full["ci95_low"] == pytest.approx(diff.mean() - half, rel=1e-9)
+
+
+def test_the_balance_override_draws_only_the_unbalance_anew():
+    """--eccentricity-um 0.2 2.5: each seed's scenario is the tier's with the unbalance drawn in
+    that range (the same draws in the same order, so everything else is equal); a stored run
+    with the override is not one without it; a deterministic tier and a bad range are refused."""
+    import dataclasses
+
+    from bearing_gym.envs import BearingPreloadEnv
+    for seed in (200000, 200007, 200013):
+        plain, low = BearingPreloadEnv(tier="transient"), BearingPreloadEnv(**G.scenario_kwargs("transient", (0.2, 2.5)))
+        plain.reset(seed=seed)
+        low.reset(seed=seed)
+        assert 0.2e-6 <= low.scenario.eccentricity_m <= 2.5e-6
+        assert dataclasses.replace(low.scenario, eccentricity_m=plain.scenario.eccentricity_m) == plain.scenario
+    a = argparse.Namespace(tier="transient", grid_step=50.0, horizon=10, replan_every=5, eccentricity_um=[0.2, 2.5])
+    b = argparse.Namespace(tier="transient", grid_step=50.0, horizon=10, replan_every=5, eccentricity_um=None)
+    assert G.run_settings(a) != G.run_settings(b)
+    with pytest.raises(ValueError, match="needs a tier that draws"):
+        G.scenario_kwargs("paper", (0.2, 2.5))
+    with pytest.raises(ValueError, match="0 < LO <= HI"):
+        G.scenario_kwargs("transient", (2.5, 0.2))
