@@ -21,7 +21,7 @@ def test_hyperparameter_files_load_for_rl_zoo_and_sb3():
     from sb3_contrib import RecurrentPPO
     from stable_baselines3 import PPO, SAC
 
-    from agents.protocol import STEP_BUDGET_PER_RUN, V2_START_BANK_STARTS
+    from agents.protocol import STEP_BUDGET_PER_RUN
     from bearing_gym.envs import BearingPreloadSB3VecEnv
     for algo, cls, policy in (("ppo", PPO, "MlpPolicy"), ("sac", SAC, "MlpPolicy"),
                               ("ppo_lstm", RecurrentPPO, "MlpLstmPolicy")):
