@@ -42,6 +42,7 @@ from .floquet import cmd_floquet
 from .output import Out
 from .parser import PROG, build_parser
 from .simulate import cmd_simulate
+from .preload_map import cmd_preload_map
 from .sweep import cmd_sweep
 
 __all__ = ["main", "guarded", "CLIError", "RunError"]
@@ -76,7 +77,7 @@ def _run(argv: list[str]) -> int:
     if args.command == "reproduce":
         return cmd_reproduce(args, extras, cfg, say)
     return {"simulate": cmd_simulate, "equilibrium": cmd_equilibrium, "floquet": cmd_floquet,
-            "sweep": cmd_sweep}[args.command](args, say)
+            "sweep": cmd_sweep, "preload-map": cmd_preload_map}[args.command](args, say)
 
 
 def main(argv: Sequence[str] | None = None) -> int:

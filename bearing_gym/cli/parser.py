@@ -16,7 +16,7 @@ from .options import option_defaults
 __all__ = ["PROG", "COMMANDS", "OneLineParser", "number", "integer", "build_parser"]
 
 PROG = "bearing-gym"
-COMMANDS = ("simulate", "equilibrium", "floquet", "sweep", "reproduce")
+COMMANDS = ("simulate", "equilibrium", "floquet", "sweep", "preload-map", "reproduce")
 
 
 class OneLineParser(argparse.ArgumentParser):
@@ -224,6 +224,50 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.Argument
                    help="also save a stability-map (or preload-sweep) figure to PNG")
     _common(p)
     subs["sweep"] = p
+
+    p = sub.add_parser("preload-map", help="the preload to run per speed x radial load, with its margins (CSV, PNG)",
+                       description="Preload map (bearing_gym.envs.preload_map): per operating point the "
+                                   "lowest period-1 preload, the period-1 preload of the lowest heat and "
+                                   "fatigue cost (with at least --min-margin to a quasi-periodic preload on "
+                                   "each side), its margins, static stiffness, L10 life and friction torque. "
+                                   "Every preload of the grid is settled and held 0.5 s in the env's physics.")
+    g = p.add_argument_group("grid")
+    g.add_argument("--rpms", type=number, nargs="+", metavar="RPM", default=[10000.0, 15000.0, 20000.0, 25000.0],
+                   help="shaft speeds (rpm, 1000-60000; default %(default)s)")
+    g.add_argument("--radial-loads", type=number, nargs="+", metavar="N", default=[0.0, 250.0, 500.0],
+                   help="radial load resultants (N, 0-5000, at 45 deg as the env applies them; default %(default)s)")
+    g.add_argument("--clearances-um", type=number, nargs="+", metavar="UM", default=[4.0],
+                   help="radial clearances c_i = c_o (um; default %(default)s)")
+    g.add_argument("--eccentricities-um", type=number, nargs="+", metavar="UM", default=[10.0],
+                   help="rotor unbalance: mass-centre eccentricity (um; default %(default)s; ISO 1940 grade G = "
+                        "e x omega: 1 um at 25,000 rpm is G2.6)")
+    g.add_argument("--preload-min", type=number, default=300.0, metavar="N",
+                   help="lowest preload of the grid (N; default %(default)g: the actuator's)")
+    g.add_argument("--preload-max", type=number, default=2000.0, metavar="N",
+                   help="highest preload of the grid (N; default %(default)g: the actuator's)")
+    g.add_argument("--preload-step", type=number, default=50.0, metavar="N",
+                   help="preload grid step (N, > 0; default %(default)g): margins are known to this step")
+    g.add_argument("--min-margin", type=number, default=0.0, metavar="N",
+                   help="the preferred preload keeps at least this distance to a quasi-periodic preload on "
+                        "each side (N, >= 0; default %(default)g: the cheapest period-1 preload)")
+    g.add_argument("--damping-ratio", type=number, default=d["damping_ratio"], metavar="ZETA",
+                   help="viscous damping ratio on each rotor DOF (dimensionless, 0-1; default %(default)g)")
+    g = p.add_argument_group("execution")
+    g.add_argument("--workers", type=integer, default=min(2, os.cpu_count() or 1), metavar="N",
+                   help="parallel worker processes, or CPUs of the local Ray instance (>= 1; default %(default)d)")
+    g.add_argument("--backend", choices=("local", "ray"), default="local",
+                   help="local = a pool of --workers processes; ray = one Ray task per operating point, on a "
+                        "local instance or the cluster at --address (pip install 'bearing-gym[ray]'); the rows "
+                        "are the same (default %(default)s)")
+    g.add_argument("--address", default=None, metavar="ADDR",
+                   help="with --backend ray: the cluster (auto, HOST:6379, ray://HOST:10001)")
+    g = p.add_argument_group("output")
+    g.add_argument("--out", default="preload_map.csv", metavar="CSV", help="the map's rows (default %(default)s)")
+    g.add_argument("--points", default=None, metavar="CSV",
+                   help="also every measured (operating point, preload) as a reward-map CSV")
+    g.add_argument("--plot", default=None, metavar="PNG", help="also the figure (default: beside --out, .png)")
+    _common(p)
+    subs["preload-map"] = p
 
     p = sub.add_parser("reproduce", add_help=False, allow_abbrev=False,
                        help="reproduce Bai & Xu (2006) (options of python -m bearing_gym.reproduction)",

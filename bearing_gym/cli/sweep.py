@@ -19,7 +19,7 @@ from .errors import CLIError, RunError, check_option, one_line
 from .options import LIST_OPTIONS, make_params, params_from_args
 from .output import Out, op_text
 
-__all__ = ["cmd_sweep", "sweep_pool"]
+__all__ = ["cmd_sweep", "sweep_pool", "check_backend"]
 
 # the option behind each run column of the store (a rerun with another value is refused)
 _RUN_OPTIONS = {"settle_s": "--settle-s", "cold_settle_s": "--cold-settle-s",
@@ -76,7 +76,7 @@ def _settings(args) -> SweepSettings:
         raise CLIError(f"{opt}: {msg}") from None
 
 
-def _check_backend(args) -> None:
+def check_backend(args) -> None:
     if isinstance(args.workers, bool) or not 1 <= args.workers <= 1024:
         raise CLIError(f"--workers: must be an integer in [1, 1024], got {args.workers}")
     if args.address is not None and args.backend != "ray":
@@ -130,7 +130,7 @@ def cmd_sweep(args, say: Out) -> int:
         lists[dest] = [float(v) for v in values]
     settings = _settings(args)
     check_option("--qpi-threshold", args.qpi_threshold, 0.0, 2.0, low_open=True)
-    _check_backend(args)
+    check_backend(args)
     speeds = lists.get("rpms", [base.shaft_speed_rpm])
     if min(speeds) > 0:
         longest = 60.0 / min(speeds)

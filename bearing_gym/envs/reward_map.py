@@ -37,7 +37,7 @@ from .tiers import CONTROL_DT_S, tier_parts
 
 __all__ = ["MapPoint", "reward_map", "GRID_SPEEDS_RPM", "GRID_RADIAL_LOADS_N", "GRID_CLEARANCES_M",
            "GRID_ECCENTRICITIES_M", "GRID_PRELOADS_N", "MEASURE_INTERVALS", "best_preloads", "period1_windows",
-           "write_csv", "read_csv"]
+           "write_csv", "read_csv", "cells_of", "measure_cell", "ENGINEERING"]
 
 GRID_SPEEDS_RPM = (10000.0, 17500.0, 25000.0)
 GRID_RADIAL_LOADS_N = (0.0, 250.0, 500.0)
@@ -49,6 +49,8 @@ MEASURE_INTERVALS = 25          # 0.5 s of settled motion per point
 COLUMNS = ("speed_rpm", "radial_load_n", "clearance_um", "eccentricity_um", "preload_n", "mean_reward",
            "mean_vibration", "mean_heat", "mean_fatigue", "quasi_periodic_fraction", "max_qpi", "mean_qpi",
            "mean_nonsync_rms_um", "terminated")
+#: the engineering quantities of a point (env info's, means over the measured intervals)
+ENGINEERING = ("radial_stiffness_n_per_m", "axial_stiffness_n_per_m", "life_used_per_s", "friction_torque_n_m")
 
 
 @dataclass(frozen=True)
@@ -67,6 +69,11 @@ class MapPoint:
     mean_qpi: float
     mean_nonsync_rms_um: float
     terminated: bool
+    #: means over the measured intervals (NaN in a CSV written before they were recorded)
+    radial_stiffness_n_per_m: float = math.nan
+    axial_stiffness_n_per_m: float = math.nan
+    life_used_per_s: float = math.nan
+    friction_torque_n_m: float = math.nan
 
     @property
     def period1(self) -> bool:
@@ -78,8 +85,12 @@ class MapPoint:
         return (self.speed_rpm, self.radial_load_n, self.clearance_um, self.eccentricity_um)
 
 
-def _cell_points(speed_rpm: float, radial_n: float, clearance_m: float, eccentricity_m: float,
+def measure_cell(speed_rpm: float, radial_n: float, clearance_m: float, eccentricity_m: float,
                  preloads: tuple[float, ...], measure_intervals: int, reward, params) -> list[MapPoint]:
+    """Every preload of one operating point (no waviness), one batch: settled at the preload as
+    ``reset`` does, then held ``measure_intervals`` control intervals, each scored by ``reward``
+    (a reward model of the env; its terms and the interval's index averaged). ``params``: the base
+    physics (None: the env's)."""
     parts = tier_parts("stationary")
     batch = PreloadBatch(len(preloads), params, CONTROL_DT_S, parts["actuator"])
     for b, p in enumerate(preloads):
@@ -94,6 +105,7 @@ def _cell_points(speed_rpm: float, radial_n: float, clearance_m: float, eccentri
     qpi_max = np.zeros(len(preloads))
     qpi_sum = np.zeros(len(preloads))
     ns_sum = np.zeros(len(preloads))
+    eng = {k: np.zeros(len(preloads)) for k in ENGINEERING}
     failed = batch.start_failed.copy()
     for k in range(measure_intervals):
         before = batch.preload.copy()
@@ -108,11 +120,14 @@ def _cell_points(speed_rpm: float, radial_n: float, clearance_m: float, eccentri
         qpi_max = np.maximum(qpi_max, m.qpi)
         qpi_sum += m.qpi
         ns_sum += batch.feats[:, F_NS_RMS]
+        for k in ENGINEERING:
+            eng[k] += getattr(m, k)
     n = measure_intervals
     return [MapPoint(speed_rpm, radial_n, clearance_m * 1e6, eccentricity_m * 1e6, float(p),
                      float(total[b] / n), float(terms_sum["vibration"][b] / n), float(terms_sum["heat"][b] / n),
                      float(terms_sum["fatigue"][b] / n), float(qp[b] / n), float(qpi_max[b]),
-                     float(qpi_sum[b] / n), float(ns_sum[b] / n * 1e6), bool(failed[b]))
+                     float(qpi_sum[b] / n), float(ns_sum[b] / n * 1e6), bool(failed[b]),
+                     *(float(eng[k][b] / n) for k in ENGINEERING))
             for b, p in enumerate(preloads)]
 
 
@@ -134,7 +149,7 @@ def reward_map(speeds_rpm=GRID_SPEEDS_RPM, radial_loads_n=GRID_RADIAL_LOADS_N,
     points: list[MapPoint] = []
     cells = list(itertools.product(speeds_rpm, radial_loads_n, clearances_m, eccentricities))
     for k, (v, f, c, e) in enumerate(cells):
-        points += _cell_points(float(v), float(f), float(c), e, tuple(preloads_n), measure_intervals,
+        points += measure_cell(float(v), float(f), float(c), e, tuple(preloads_n), measure_intervals,
                                reward, params)
         if progress is not None:
             progress(k + 1, len(cells))
@@ -169,16 +184,17 @@ def period1_windows(pts: list[MapPoint], step_n: float = 100.0) -> list[tuple[fl
 def write_csv(points: list[MapPoint], path: str | Path) -> None:
     with open(path, "w", newline="") as fh:
         w = csv.writer(fh)
-        w.writerow(COLUMNS)
+        w.writerow(COLUMNS + ENGINEERING)
         for p in points:
             w.writerow([getattr(p, c) if not isinstance(getattr(p, c), float) else f"{getattr(p, c):.6g}"
-                        for c in COLUMNS])
+                        for c in COLUMNS + ENGINEERING])
 
 
 def read_csv(path: str | Path) -> list[MapPoint]:
     with open(path, newline="") as fh:
         rows = list(csv.DictReader(fh))
-    return [MapPoint(**{c: (r[c] == "True") if c == "terminated" else float(r[c]) for c in COLUMNS}) for r in rows]
+    return [MapPoint(**{c: (r[c] == "True") if c == "terminated" else float(r[c])
+                        for c in COLUMNS + ENGINEERING if c in r}) for r in rows]
 
 
 def plot(points: list[MapPoint], path: str | Path) -> None:
