@@ -4,7 +4,7 @@ Layers, lowest first (a module may import its own layer and those below):
 
     validation, units, serialization, task (and the numba cache set-up)
     < params (and the package's __init__)
-    < physics < analysis < envs < reproduction < cli (and ``python -m bearing_gym``)
+    < physics < analysis < envs < engineering < reproduction < cli (and ``python -m bearing_gym``)
 
 Nothing in bearing_gym imports ``agents``, ``train`` or ``benchmarks``, which sit above it.
 
@@ -34,6 +34,7 @@ LAYERS = (
     ("physics", ("bearing_gym.physics",)),
     ("analysis", ("bearing_gym.analysis",)),
     ("envs", ("bearing_gym.envs",)),
+    ("engineering", ("bearing_gym.engineering",)),
     ("reproduction", ("bearing_gym.reproduction",)),
     ("cli", ("bearing_gym.cli", "bearing_gym.__main__")),
 )

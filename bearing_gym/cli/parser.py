@@ -226,7 +226,7 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.Argument
     subs["sweep"] = p
 
     p = sub.add_parser("preload-map", help="the preload to run per speed x radial load, with its margins (CSV, PNG)",
-                       description="Preload map (bearing_gym.envs.preload_map): per operating point the "
+                       description="Preload map (bearing_gym.engineering.preload_map): per operating point the "
                                    "lowest period-1 preload, the period-1 preload of the lowest heat and "
                                    "fatigue cost (with at least --min-margin to a quasi-periodic preload on "
                                    "each side), its margins, static stiffness, L10 life and friction torque. "

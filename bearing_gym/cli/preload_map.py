@@ -1,5 +1,5 @@
 """``bearing-gym preload-map``: the preload to run at each operating point, with its margins
-(:mod:`bearing_gym.envs.preload_map`)."""
+(:mod:`bearing_gym.engineering.preload_map`)."""
 
 from __future__ import annotations
 
@@ -25,7 +25,7 @@ def _grid(args) -> tuple[float, ...]:
 
 def cmd_preload_map(args, say: Out) -> int:
     from bearing_gym.envs.core import env_params
-    from bearing_gym.envs.preload_map import plot, preload_map, write_csv
+    from bearing_gym.engineering.preload_map import plot, preload_map, write_csv
     from bearing_gym.envs.reward_map import write_csv as write_points
 
     check_backend(args)

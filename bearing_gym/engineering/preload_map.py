@@ -40,7 +40,7 @@ from dataclasses import asdict, dataclass, fields
 from pathlib import Path
 from typing import Any, Sequence
 
-from .reward_map import MEASURE_INTERVALS, MapPoint, measure_cell
+from bearing_gym.envs.reward_map import MEASURE_INTERVALS, MapPoint, measure_cell
 
 __all__ = ["PreloadMapRow", "cell_row", "static_stiffness", "preload_map", "write_csv", "read_csv", "plot", "DEFAULT_PRELOADS_N",
            "COLUMNS"]
@@ -117,8 +117,8 @@ def static_stiffness(speed_rpm: float, radial_n: float, clearance_m: float, prel
     """(radial, axial) stiffness (N/m) of the bearing at its quasi-static equilibrium at this
     operating point: (K_xx + K_yy) / 2 and K_zz of :func:`bearing_gym.physics.static_equilibrium`."""
     from bearing_gym.physics import static_equilibrium
-    from .core import env_params, scenario_params
-    from .scenario import Scenario
+    from bearing_gym.envs.core import env_params, scenario_params
+    from bearing_gym.envs.scenario import Scenario
     sc = Scenario(speed_profile=((0.0, speed_rpm),), radial_load_profile=((0.0, radial_n),), clearance_m=clearance_m,
                   eccentricity_m=0.0, initial_preload_n=preload_n)
     K = static_equilibrium(scenario_params(params if params is not None else env_params(), sc)).stiffness
@@ -130,7 +130,7 @@ def _cell_task(speed_rpm: float, radial_n: float, clearance_m: float, eccentrici
                min_margin_n: float) -> tuple[PreloadMapRow, list[MapPoint]]:
     import numba
     numba.set_num_threads(1)                    # one task per core
-    from .tiers import tier_parts
+    from bearing_gym.envs.tiers import tier_parts
     pts = measure_cell(speed_rpm, radial_n, clearance_m, eccentricity_m, preloads, measure_intervals,
                        tier_parts("stationary")["reward"], params)
     row = cell_row(pts, min_margin_n,

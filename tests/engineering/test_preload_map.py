@@ -9,7 +9,7 @@ import pytest
 
 from bearing_gym import cli
 from bearing_gym.envs import BearingPreloadEnv
-from bearing_gym.envs.preload_map import cell_row, preload_map, read_csv, static_stiffness, write_csv
+from bearing_gym.engineering.preload_map import cell_row, preload_map, read_csv, static_stiffness, write_csv
 from bearing_gym.envs.reward_map import MEASURE_INTERVALS, MapPoint
 from bearing_gym.envs.scenario import Scenario
 
