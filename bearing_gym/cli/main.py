@@ -43,6 +43,7 @@ from .output import Out
 from .parser import PROG, build_parser
 from .simulate import cmd_simulate
 from .preload_map import cmd_preload_map
+from .schedule import cmd_schedule
 from .sweep import cmd_sweep
 
 __all__ = ["main", "guarded", "CLIError", "RunError"]
@@ -77,7 +78,8 @@ def _run(argv: list[str]) -> int:
     if args.command == "reproduce":
         return cmd_reproduce(args, extras, cfg, say)
     return {"simulate": cmd_simulate, "equilibrium": cmd_equilibrium, "floquet": cmd_floquet,
-            "sweep": cmd_sweep, "preload-map": cmd_preload_map}[args.command](args, say)
+            "sweep": cmd_sweep, "preload-map": cmd_preload_map,
+            "schedule": cmd_schedule}[args.command](args, say)
 
 
 def main(argv: Sequence[str] | None = None) -> int:

@@ -16,7 +16,7 @@ from .options import option_defaults
 __all__ = ["PROG", "COMMANDS", "OneLineParser", "number", "integer", "build_parser"]
 
 PROG = "bearing-gym"
-COMMANDS = ("simulate", "equilibrium", "floquet", "sweep", "preload-map", "reproduce")
+COMMANDS = ("simulate", "equilibrium", "floquet", "sweep", "preload-map", "schedule", "reproduce")
 
 
 class OneLineParser(argparse.ArgumentParser):
@@ -268,6 +268,31 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.Argument
     g.add_argument("--plot", default=None, metavar="PNG", help="also the figure (default: beside --out, .png)")
     _common(p)
     subs["preload-map"] = p
+
+    p = sub.add_parser("schedule", help="a preload schedule for a duty cycle, checked on the model, against the best constant",
+                       description="Duty-cycle schedule (bearing_gym.engineering.duty_cycle): the preload map's "
+                                   "preferred preload at each operating point of the cycle, every switch checked by "
+                                   "simulating the whole cycle (a switch that rings gets the planner's ramp or kick "
+                                   "if one does better), with its cost against the best constant preload.")
+    g = p.add_argument_group("cycle")
+    g.add_argument("--duty", required=True, metavar="CSV",
+                   help="the cycle: columns time_s, speed_rpm, radial_load_n (speed linear between rows, load "
+                        "stepping at each row; the example: bearing_gym/engineering/example_cycle.csv)")
+    g.add_argument("--min-margin", type=number, default=100.0, metavar="N",
+                   help="the map's minimum margin to a quasi-periodic preload on each side (N, >= 0; default %(default)g)")
+    g.add_argument("--preload-step", type=number, default=50.0, metavar="N",
+                   help="the map's preload grid step over the actuator's range (N, > 0; default %(default)g)")
+    g.add_argument("--clearance-um", type=number, default=4.0, metavar="UM", help="radial clearance (um; default %(default)g)")
+    g.add_argument("--eccentricity-um", type=number, default=10.0, metavar="UM",
+                   help="rotor unbalance, mass-centre eccentricity (um; default %(default)g)")
+    g.add_argument("--workers", type=integer, default=min(2, os.cpu_count() or 1), metavar="N",
+                   help="processes for the preload map (>= 1; default %(default)d)")
+    g = p.add_argument_group("output")
+    g.add_argument("--out", default="schedule.csv", metavar="CSV", help="the set-point per 20 ms interval (default %(default)s)")
+    g.add_argument("--plot", default=None, metavar="PNG", help="the figure (default: beside --out, .png)")
+    _json_option(g)
+    _common(p)
+    subs["schedule"] = p
 
     p = sub.add_parser("reproduce", add_help=False, allow_abbrev=False,
                        help="reproduce Bai & Xu (2006) (options of python -m bearing_gym.reproduction)",

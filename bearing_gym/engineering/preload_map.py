@@ -42,7 +42,7 @@ from typing import Any, Sequence
 
 from bearing_gym.envs.reward_map import MEASURE_INTERVALS, MapPoint, measure_cell
 
-__all__ = ["PreloadMapRow", "cell_row", "static_stiffness", "preload_map", "write_csv", "read_csv", "plot", "DEFAULT_PRELOADS_N",
+__all__ = ["PreloadMapRow", "cell_row", "static_stiffness", "preload_map", "map_points", "write_csv", "read_csv", "plot", "DEFAULT_PRELOADS_N",
            "COLUMNS"]
 
 #: the actuator's whole range on a 50 N grid (the protocol's hindsight grid)
@@ -146,7 +146,6 @@ def preload_map(speeds_rpm: Sequence[float], radial_loads_n: Sequence[float] = (
     """(the map's rows, every measured point) over the grid (module docstring). ``executor``: a
     ``concurrent.futures``-style executor (e.g. :class:`bearing_gym.analysis.ray_backend.RayExecutor`);
     default a pool of ``workers`` processes. ``params``: the bearing and rotor (default: the env's)."""
-    from bearing_gym.analysis.sweeps.runner import run_tasks
     from bearing_gym.validation import check_real_tuple
     speeds = check_real_tuple("preload map speeds (rpm)", speeds_rpm, 1000.0, 60000.0)
     loads = check_real_tuple("preload map radial loads (N)", radial_loads_n, 0.0, 5000.0)
@@ -162,8 +161,18 @@ def preload_map(speeds_rpm: Sequence[float], radial_loads_n: Sequence[float] = (
         raise ValueError(f"preload map measure_intervals must be an integer >= 1, got {measure_intervals!r}")
     from bearing_gym.validation import check_real
     margin = check_real("preload map min_margin_n (N)", min_margin_n, 0.0, 1e5)
-    cells = list(itertools.product(speeds, loads, clear, ecc))
-    tasks = [(float(v), float(f), float(c), float(e), tuple(pre), measure_intervals, params, margin)
+    return map_points(list(itertools.product(speeds, loads, clear, ecc)), pre, measure_intervals, params, executor,
+                      workers, progress, margin)
+
+
+def map_points(cells: Sequence[tuple[float, float, float, float]], preloads_n: Sequence[float],
+               measure_intervals: int = MEASURE_INTERVALS, params=None, executor=None, workers: int | None = None,
+               progress: bool = True, min_margin_n: float = 0.0) -> tuple[list[PreloadMapRow], list[MapPoint]]:
+    """The map's rows of any list of operating points (speed rpm, radial load N, clearance m,
+    eccentricity m), in order, one task each (:func:`preload_map` checks its arguments and passes
+    the grid's product here)."""
+    from bearing_gym.analysis.sweeps.runner import run_tasks
+    tasks = [(float(v), float(f), float(c), float(e), tuple(preloads_n), measure_intervals, params, float(min_margin_n))
              for v, f, c, e in cells]
     done = run_tasks(_cell_task, tasks, executor=executor, max_workers=workers, progress=progress,
                      desc="preload map")
