@@ -240,6 +240,11 @@ def protocol_defaults(args: argparse.Namespace) -> argparse.Namespace:
     if args.val_episodes is None:
         args.val_episodes = P.V2_VALIDATION_EPISODES_IN_TRAINING if v2 else VALIDATION_EPISODES_IN_TRAINING
     args.snapshot_at = P.V2_EARLY_ROW_STEPS if v2 and args.timesteps > P.V2_EARLY_ROW_STEPS else None
+    if args.snapshot_at is not None and (args.snapshot_at % args.eval_freq or (args.eval_freq // max(args.n_envs, 1))
+                                         * max(args.n_envs, 1) != args.eval_freq):
+        raise SystemExit(f"train.py: protocol 2 keeps the best checkpoint up to {args.snapshot_at:,} steps, which must be "
+                         f"a validation point: --eval-freq {args.eval_freq} must divide it and be a multiple of "
+                         f"--n-envs {args.n_envs}")
     return args
 
 

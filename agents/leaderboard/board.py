@@ -82,13 +82,13 @@ from agents.policies.planner import plan_episode
 from agents.leaderboard.results_file import default_out, header, kept_tiers, table_path, write
 from agents.references.store import StoredReferences, load_references
 from agents.leaderboard.settings import FULL, SMOKE, Settings
-
-#: the row kinds compared pair by pair on a tier (results.json's pairwise_improvement)
-PAIRWISE_KINDS = ("learned", "industry")
 from agents.leaderboard.upper import PLANNER_ROW, planner_row, require_planner_settings, score_bounds, upper_fields
 
 __all__ = ["PLANNER_ROW", "LearnedGroup", "learned_groups", "run_tier", "summarise",
            "to_markdown", "main"]
+
+#: the row kinds compared pair by pair on a tier (results.json's pairwise_improvement)
+PAIRWISE_KINDS = ("learned", "industry")
 
 
 @dataclass

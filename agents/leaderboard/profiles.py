@@ -35,7 +35,8 @@ def _row(policies: dict[str, Any], prefix: str) -> dict[str, Any]:
     return hits[0]
 
 
-def tier_scores(results: dict[str, Any], tier: str, kinds: tuple[str, ...] = ("learned", "submitted", "reference"),
+def tier_scores(results: dict[str, Any], tier: str,
+                kinds: tuple[str, ...] = ("learned", "submitted", "reference", "industry", "model-based"),
                 ) -> dict[str, np.ndarray]:
     """Name -> normalised scores (runs x episodes) of every row of ``tier`` whose kind is in
     ``kinds`` (the upper reference's own row, 1 by definition, left out)."""

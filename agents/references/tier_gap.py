@@ -182,6 +182,9 @@ def main(argv: list[str] | None = None) -> None:
     rows = [done[s] for s in seeds if s in done]
     if rows:
         print(f"resuming: {len(rows)} of {len(seeds)} scenarios already in {a.out}", flush=True)
+    if a.controller == "planner" and a.grid_step != 50.0:
+        raise SystemExit("--controller planner: the planner starts from the hindsight constant of its own 50 N grid; "
+                         "leave --grid-step at 50 so both compare on the same grid")
     ecc = tuple(a.eccentricity_um) if a.eccentricity_um else None
     scenario_kwargs(a.tier, ecc)                  # a bad range or tier: refused before any process starts
     jobs = [(a.tier, s, a.grid_step, a.horizon, a.replan_every, ecc, a.controller) for s in seeds if s not in done]

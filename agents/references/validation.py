@@ -39,8 +39,9 @@ from agents.policies.contextual import ContextualConstant
 from agents.evaluation.result import EvalResult
 from agents.evaluation.episodes import constant_sweep, hindsight_constant
 from agents.references.sweep_cli import parse_sweep, sweep_parser
-from agents.protocol import HINDSIGHT_GRID_STEP_N, VALIDATION, VALIDATION_CONSTANT_EPISODES, VALIDATION_GRID_STEP_N, preload_grid, validation_seeds
-from agents.references.store import STORE_PATH, ValidationChoice, save_choice, validation_episodes
+from agents.protocol import (HINDSIGHT_GRID_STEP_N, VALIDATION, VALIDATION_CONSTANT_EPISODES, VALIDATION_GRID_STEP_N,
+                             VALIDATION_RULE, preload_grid, validation_seeds)
+from agents.references.store import STORE_PATH, ValidationChoice, rule_choice, save_choice, validation_episodes
 
 
 __all__ = ["choose_validation_constant", "hindsight_grid", "hindsight_reference", "ContextualConstant", "main"]
@@ -59,10 +60,12 @@ def choose_validation_constant(tier: str, episodes: int = VALIDATION_CONSTANT_EP
     sweep = constant_sweep(grid, episodes, seeds.start, episode_steps,
                            env_kwargs={"tier": tier}, progress=progress, **run_kw)
     means = [float(np.mean(r.returns)) for r in sweep]
-    return ValidationChoice(tier=tier, preload_n=grid[int(np.argmax(means))], seeds=tuple(seeds),
+    returns = tuple(tuple(float(x) for x in r.returns) for r in sweep)
+    return ValidationChoice(tier=tier, preload_n=grid[rule_choice(VALIDATION_RULE, grid, means, returns, tier)],
+                            rule=VALIDATION_RULE, seeds=tuple(seeds),
                             grid_step_n=float(grid_step_n), grid_n=grid, mean_returns=tuple(means),
                             episode_steps=episode_steps, wall_s=time.time() - t0,
-                            episode_returns=tuple(tuple(float(x) for x in r.returns) for r in sweep),
+                            episode_returns=returns,
                             kernel_hash=kernel_hash())
 
 

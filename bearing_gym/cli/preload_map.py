@@ -10,17 +10,42 @@ from .errors import CLIError, one_line
 from .output import Out
 from .sweep import check_backend, sweep_pool
 
-__all__ = ["cmd_preload_map"]
+__all__ = ["cmd_preload_map", "preload_grid", "check_um"]
+
+
+#: preloads a grid may hold (each costs one env of a cell's batch)
+MAX_GRID_PRELOADS = 400
+
+
+def preload_grid(lo: float, hi: float, step: float) -> tuple[float, ...]:
+    """The preload grid lo, lo + step, ... <= hi, inside the actuator's range; CLIError naming the
+    option otherwise."""
+    from bearing_gym.envs.actuator import PreloadActuator
+    a = PreloadActuator()
+    amin, amax = float(a.min_preload_n), float(a.max_preload_n)
+    for name, v in (("--preload-min", lo), ("--preload-max", hi), ("--preload-step", step)):
+        if not math.isfinite(v):
+            raise CLIError(f"{name}: must be a finite number of N, got {v}")
+    if not step > 0:
+        raise CLIError(f"--preload-step: must be > 0 N, got {step:g}")
+    if not amin <= lo < hi <= amax:
+        raise CLIError(f"--preload-min/--preload-max: need {amin:g} <= min < max <= {amax:g} N (the actuator's range), "
+                       f"got {lo:g} and {hi:g}")
+    n = int(math.floor((hi - lo) / step + 1e-9)) + 1
+    if n > MAX_GRID_PRELOADS:
+        raise CLIError(f"--preload-step: {step:g} N makes {n} preloads; at most {MAX_GRID_PRELOADS} (a larger step)")
+    return tuple(lo + k * step for k in range(n))
+
+
+def check_um(name: str, values, low: float, high: float) -> None:
+    """CLIError naming the option unless every value (um) is finite and in [low, high]."""
+    for v in values:
+        if not (math.isfinite(v) and low <= v <= high):
+            raise CLIError(f"{name}: must be in [{low:g}, {high:g}] um, got {v:g}")
 
 
 def _grid(args) -> tuple[float, ...]:
-    lo, hi, step = args.preload_min, args.preload_max, args.preload_step
-    if not step > 0:
-        raise CLIError(f"--preload-step: must be > 0 N, got {step:g}")
-    if not 0 <= lo < hi:
-        raise CLIError(f"--preload-min/--preload-max: need 0 <= min < max, got {lo:g} and {hi:g}")
-    n = int(math.floor((hi - lo) / step + 1e-9))
-    return tuple(lo + k * step for k in range(n + 1))
+    return preload_grid(args.preload_min, args.preload_max, args.preload_step)
 
 
 def cmd_preload_map(args, say: Out) -> int:
@@ -29,8 +54,14 @@ def cmd_preload_map(args, say: Out) -> int:
     from bearing_gym.envs.reward_map import write_csv as write_points
 
     check_backend(args)
-    if args.min_margin < 0:
-        raise CLIError(f"--min-margin: must be >= 0 N, got {args.min_margin:g}")
+    if not (math.isfinite(args.min_margin) and args.min_margin >= 0):
+        raise CLIError(f"--min-margin: must be a finite number >= 0 N, got {args.min_margin:g}")
+    for name, vals, lo, hi in (("--rpms", args.rpms, 1000.0, 60000.0), ("--radial-loads", args.radial_loads, 0.0, 5000.0)):
+        for v in vals:
+            if not (math.isfinite(v) and lo <= v <= hi):
+                raise CLIError(f"{name}: must be in [{lo:g}, {hi:g}], got {v:g}")
+    check_um("--clearances-um", args.clearances_um, 0.0, 100.0)
+    check_um("--eccentricities-um", args.eccentricities_um, 0.0, 1000.0)
     try:
         params = env_params(damping_ratio=args.damping_ratio)
     except ValueError as err:

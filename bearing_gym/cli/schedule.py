@@ -3,10 +3,12 @@
 
 from __future__ import annotations
 
+import math
 from pathlib import Path
 
 from .errors import CLIError, one_line
 from .output import Out, write_json
+from .preload_map import check_um, preload_grid
 
 __all__ = ["cmd_schedule"]
 
@@ -14,10 +16,11 @@ __all__ = ["cmd_schedule"]
 def cmd_schedule(args, say: Out) -> int:
     from bearing_gym.engineering.duty_cycle import plan_schedule, plot, read_cycle, write_schedule
     from bearing_gym.engineering.preload_map import DEFAULT_PRELOADS_N
-    if not args.preload_step > 0:
-        raise CLIError(f"--preload-step: must be > 0 N, got {args.preload_step:g}")
-    if args.min_margin < 0:
-        raise CLIError(f"--min-margin: must be >= 0 N, got {args.min_margin:g}")
+    if not (math.isfinite(args.min_margin) and args.min_margin >= 0):
+        raise CLIError(f"--min-margin: must be a finite number >= 0 N, got {args.min_margin:g}")
+    check_um("--clearance-um", [args.clearance_um], 0.0, 100.0)
+    check_um("--eccentricity-um", [args.eccentricity_um], 0.0, 1000.0)
+    grid = preload_grid(DEFAULT_PRELOADS_N[0], DEFAULT_PRELOADS_N[-1], args.preload_step)
     if isinstance(args.workers, bool) or args.workers < 1:
         raise CLIError(f"--workers: must be an integer >= 1, got {args.workers}")
     if not Path(args.duty).is_file():
@@ -26,8 +29,6 @@ def cmd_schedule(args, say: Out) -> int:
         cycle = read_cycle(args.duty)
     except ValueError as err:
         raise CLIError(f"--duty: {one_line(err)}") from None
-    lo, hi = DEFAULT_PRELOADS_N[0], DEFAULT_PRELOADS_N[-1]
-    grid = tuple(lo + k * args.preload_step for k in range(int((hi - lo) / args.preload_step + 1e-9) + 1))
     try:
         s = plan_schedule(cycle, args.min_margin, grid, clearance_m=args.clearance_um * 1e-6,
                           eccentricity_m=args.eccentricity_um * 1e-6, workers=args.workers,

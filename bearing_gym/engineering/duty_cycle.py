@@ -44,6 +44,8 @@ __all__ = ["Cycle", "read_cycle", "CycleRun", "Costs", "Schedule", "plan_schedul
 #: the shipped example: a 60 s cycle of roughing at low speed under load, a ramp, finishing at
 #: high speed and light load, a tool change at low speed
 EXAMPLE_CYCLE = Path(__file__).resolve().parent / "example_cycle.csv"
+#: rows a cycle may have (each operating point costs a row of the preload map)
+MAX_CYCLE_ROWS = 200
 
 
 @dataclass(frozen=True)
@@ -64,6 +66,15 @@ class Cycle:
                              f"{list(t)[:5]}...")
         if not len(t) == len(self.speeds_rpm) == len(self.radial_loads_n):
             raise ValueError("duty cycle: every row needs time_s, speed_rpm and radial_load_n")
+        from bearing_gym.envs.tiers import CONTROL_DT_S
+        close = [(a, b) for a, b in zip(t, t[1:]) if b - a < CONTROL_DT_S - 1e-12]
+        if close:
+            raise ValueError(f"duty cycle rows must be at least one control interval ({CONTROL_DT_S * 1e3:g} ms) apart; "
+                             f"rows at {close[0][0]:g} s and {close[0][1]:g} s are not: resample a dense log into "
+                             "segments (a row where the speed or the load changes)")
+        if len(t) > MAX_CYCLE_ROWS:
+            raise ValueError(f"duty cycle: {len(t)} rows; at most {MAX_CYCLE_ROWS} (each row's operating point gets a "
+                             "preload-map row): resample a dense log into segments")
 
     @property
     def duration_s(self) -> float:
@@ -118,10 +129,13 @@ class Costs:
     life_used: float                # the share of the bearing's L10 life the cycle uses
     return_: float
     quasi_periodic_intervals: list[int] = field(default_factory=list)
+    #: the motion diverged (the env would end the episode there): the costs stop at that interval
+    terminated: bool = False
 
     def as_dict(self) -> dict[str, Any]:
         return {"quasi_periodic_s": self.quasi_periodic_s, "heat_cost": self.heat_cost,
-                "fatigue_cost": self.fatigue_cost, "life_used": self.life_used, "return": self.return_}
+                "fatigue_cost": self.fatigue_cost, "life_used": self.life_used, "return": self.return_,
+                "terminated": self.terminated}
 
 
 class CycleRun:
@@ -157,12 +171,15 @@ class CycleRun:
         """One control interval of the envs ``active`` (default all) towards ``setpoints_n``."""
         from bearing_gym.envs.composition import measurement
         active = np.ones(self.n, dtype=bool) if active is None else np.asarray(active, dtype=bool)
+        live = active & ~self.failed                 # a diverged env is scored once, as the env ends there
         row = self.cycle.schedule_row(self.k * self.dt)
         self.batch.sched[active] = row
         before = self.batch.preload.copy()
-        self.batch.step(np.asarray(setpoints_n, dtype=float), active & ~self.failed)
+        self.batch.step(np.asarray(setpoints_n, dtype=float), live)
         self.failed |= self.batch.status != 0
-        idx = np.flatnonzero(active)
+        idx = np.flatnonzero(live)
+        if not len(idx):
+            return
         m = measurement(self.batch, idx, before[idx], np.full(len(idx), self.steps - self.k - 1), self.failed[idx])
         r, terms = self.reward(m)
         k = self.k
@@ -185,7 +202,7 @@ class CycleRun:
         for r in self.rewards[b]:                   # summed in step order, as every return
             total += float(r)
         return Costs(float(self.qp[b].sum() * self.dt), float(-self.heat[b].sum()), float(-self.fatigue[b].sum()),
-                     float(self.life[b].sum()), total, [int(k) for k in np.flatnonzero(self.qp[b])])
+                     float(self.life[b].sum()), total, [int(k) for k in np.flatnonzero(self.qp[b])], bool(self.failed[b]))
 
 
 @dataclass
@@ -282,7 +299,8 @@ def plan_schedule(cycle: Cycle, min_margin_n: float = 100.0, preloads_n: Sequenc
             k += 1
             continue
         nxt = next((x for x in switches if x > k), run.steps)
-        cands = _moves(float(plan[k - 1]), float(plan[k]), top)
+        old_n, new_n = float(plan[k - 1]), float(plan[k])
+        cands = _moves(old_n, new_n, top)
         run.branch(0, spare[:len(cands)])
         trial = np.zeros(run.n, dtype=bool)
         trial[0] = True
@@ -296,12 +314,12 @@ def plan_schedule(cycle: Cycle, min_margin_n: float = 100.0, preloads_n: Sequenc
             kept, head = cands[best - 1]
             plan[k:k + min(len(head), nxt - k)] = head[:nxt - k]
             run.branch(int(spare[best - 1]), [0])
-        transitions.append({"interval": k, "time_s": k * run.dt, "from_n": float(plan[k - 1]),
-                            "to_n": float(plan[nxt - 1]), "rang": rang, "kept": kept,
+        transitions.append({"interval": k, "time_s": k * run.dt, "from_n": old_n, "to_n": new_n, "rang": rang,
+                            "kept": kept,
                             "stretch_returns": dict(zip(["switch"] + [c[0] for c in cands], totals))})
         run.k = k                                  # the constants over the same stretch
         stretch(k, nxt, constants_only, {})
-        say(f"  switch at {k * run.dt:.2f} s ({plan[k - 1]:.0f} -> {plan[nxt - 1]:.0f} N): "
+        say(f"  switch at {k * run.dt:.2f} s ({old_n:.0f} -> {new_n:.0f} N): "
             + (f"rang; kept: {kept}" if rang else "no ringing"))
         k = nxt
     returns = [run.costs(b).return_ for b in range(1, 1 + n_c)]

@@ -129,10 +129,14 @@ def _cell_task(speed_rpm: float, radial_n: float, clearance_m: float, eccentrici
                preloads: tuple[float, ...], measure_intervals: int, params,
                min_margin_n: float) -> tuple[PreloadMapRow, list[MapPoint]]:
     import numba
-    numba.set_num_threads(1)                    # one task per core
     from bearing_gym.envs.tiers import tier_parts
-    pts = measure_cell(speed_rpm, radial_n, clearance_m, eccentricity_m, preloads, measure_intervals,
-                       tier_parts("stationary")["reward"], params)
+    threads = numba.get_num_threads()
+    numba.set_num_threads(1)                    # one task per core (restored: a task may run in the caller)
+    try:
+        pts = measure_cell(speed_rpm, radial_n, clearance_m, eccentricity_m, preloads, measure_intervals,
+                           tier_parts("stationary")["reward"], params)
+    finally:
+        numba.set_num_threads(threads)
     row = cell_row(pts, min_margin_n,
                    lambda p: static_stiffness(speed_rpm, radial_n, clearance_m, p, params))
     return row, pts

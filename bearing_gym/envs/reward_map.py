@@ -244,8 +244,8 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--plot-only", action="store_true", help="redraw the PNG from an existing CSV")
     ap.add_argument("--eccentricities-um", nargs="+", type=float, metavar="UM",
                     help="the rotor unbalance axis (mass-centre eccentricity, um; default "
-                         f"{' '.join(f'{e * 1e6:g}' for e in GRID_ECCENTRICITIES_M)}; e.g. 0.4 1 2.5 for G0.4-G2.5 "
-                         "balance at the tiers' speeds)")
+                         f"{' '.join(f'{e * 1e6:g}' for e in GRID_ECCENTRICITIES_M)}; e.g. 0.4 1 2.5: G0.4 at 10,000 rpm "
+                         "to G6.5 at 25,000 rpm)")
     args = ap.parse_args(argv)
     if args.plot_only:
         pts = read_csv(args.out)

@@ -61,17 +61,39 @@ def test_a_run_of_the_cycle_is_the_envs_episode_bit_for_bit():
     np.testing.assert_array_equal(run.rewards[0], np.array(rewards))
 
 
-def test_a_kept_move_beats_the_plain_switch_and_the_costs_add_up():
+def test_a_kept_move_beats_the_plain_switch_and_the_costs_are_its_courses():
+    """A cycle whose two switches ring (10,000 rpm / 500 N to 25,000 rpm / 100 N): each kept move
+    earned the most over its stretch; the reported costs are those of the planned course run
+    again alone from the start, and the best constant's those of that constant run alone."""
     cycle = D.Cycle((0.0, 1.0, 1.2, 2.4), (10000.0, 10000.0, 25000.0, 25000.0), (500.0, 500.0, 100.0, 100.0))
     s = D.plan_schedule(cycle, preloads_n=tuple(float(p) for p in range(300, 2001, 100)),
                         constants_n=(600.0, 1200.0, 1800.0), workers=1, progress=None)
     assert len(s.setpoints_n) == 120 and np.all((300.0 <= s.setpoints_n) & (s.setpoints_n <= 2000.0))
-    for tr in s.transitions:
+    kept = [tr for tr in s.transitions if tr["kept"] != "switch"]
+    assert kept, "no move kept: the cycle was chosen so that its switches ring"
+    for tr in kept:
         r = tr["stretch_returns"]
-        if tr["kept"] != "switch":
-            assert tr["rang"] and r[tr["kept"]] > r["switch"] and r[tr["kept"]] == max(r.values())
-    assert s.costs.quasi_periodic_s == pytest.approx(0.02 * len(s.costs.quasi_periodic_intervals))
-    assert s.best_constant_n in (600.0, 1200.0, 1800.0)
+        assert tr["rang"] and r[tr["kept"]] > r["switch"] and r[tr["kept"]] == max(r.values())
+    for course, costs in ((s.setpoints_n, s.costs), (np.full(120, s.best_constant_n), s.constant_costs)):
+        alone = D.CycleRun(cycle, [course[0]])
+        for k in range(alone.steps):
+            alone.step(np.array([course[k]]))
+            alone.advance()
+        assert alone.costs(0).as_dict() == costs.as_dict()
+
+
+def test_a_dense_log_is_refused_and_a_diverged_run_is_scored_once():
+    """Rows closer than one control interval cannot all reach the kernel: refused, naming what to
+    do. A run that has diverged is not scored again (the env's episode ends at its termination)."""
+    with pytest.raises(ValueError, match="at least one control interval"):
+        D.Cycle((0.0, 0.001, 1.0), (10000.0, 10000.0, 12000.0), (0.0, 0.0, 0.0))
+    cycle = D.Cycle((0.0, 0.2), (20000.0, 20000.0), (0.0, 0.0))
+    run = D.CycleRun(cycle, [1000.0])
+    run.failed[0] = True                       # as if the first interval had diverged
+    for _ in range(run.steps):
+        run.step(np.array([1000.0]))
+        run.advance()
+    assert not run.rewards.any() and run.costs(0).terminated
 
 
 @pytest.mark.slow
