@@ -115,3 +115,14 @@ def test_sweep_waits_for_late_appends_before_the_final_write(tmp_path, monkeypat
     keys = [(r["label"], r["axial_preload_n"]) for r in _csv(out)]
     assert sorted(keys) == sorted({("20000rpm", "800"), ("20000rpm", "700"),
                                    ("15000rpm", "800"), ("15000rpm", "700")})
+
+
+def test_the_preload_map_on_ray_gives_the_local_rows(ray_session):
+    """bearing-gym preload-map's cells as Ray tasks: the same rows as in this process."""
+    from bearing_gym.engineering.preload_map import preload_map
+    kw = dict(speeds_rpm=[20000.0, 25000.0], radial_loads_n=[500.0], preloads_n=(900.0, 1200.0, 1500.0),
+              measure_intervals=5, progress=False)
+    local, _ = preload_map(workers=1, **kw)
+    with RayExecutor(address="ignored: the session is open") as ex:
+        remote, _ = preload_map(executor=ex, **kw)
+    assert len(local) == 2 and [repr(r) for r in remote] == [repr(r) for r in local]
