@@ -66,8 +66,9 @@ def hindsight_constant(tier: str, seed: int, preloads_n: np.ndarray,
 
 
 def scenario_gap(args: tuple) -> dict:
-    tier, seed, grid_step, horizon, replan_every, eccentricity_um, *rest = args
-    controller = rest[0] if rest else "mpc"
+    tier, seed, grid_step, horizon, replan_every, *rest = args      # + (eccentricity_um, controller) if given
+    eccentricity_um = rest[0] if rest else None
+    controller = rest[1] if len(rest) > 1 else "mpc"
     import numba
     numba.set_num_threads(1)                     # one process per core
     from bearing_gym.envs import BearingPreloadEnv
