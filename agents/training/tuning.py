@@ -5,7 +5,8 @@
     python -m agents.training.tuning --algo sac --export               # agents/tuning/sac.json (+ the chosen yml)
 
 One optuna study per algorithm (``protocol<V>-<algo>``) in an optuna storage (default
-``sqlite:///runs/tuning/tuning.db``; any RDB URL, so several processes or machines can work on one
+``sqlite:///agents/tuning/tuning.db``, committed with the trials as they land, so a search
+resumes from a checkout on another machine; any RDB URL, so several processes or machines can work on one
 study; sqlite for the processes of one machine, a server database - PostgreSQL, say - for
 several machines), the budget of :mod:`agents.protocol` (``TUNING_*``: trials, steps, validation
 episodes, pruner, sampler seed; the sampler reseeded with the trials done, so a resumed or
@@ -251,8 +252,9 @@ def _write_yml(path: Path, algo: str, hp: dict[str, Any], best) -> None:
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(prog="python -m agents.training.tuning", description=__doc__.split("\n\n")[0])
     ap.add_argument("--algo", required=True, choices=S.ALGORITHMS)
-    ap.add_argument("--storage", default=f"sqlite:///{runs_dir('tuning', 'tuning.db')}",
-                    help="optuna storage URL (several processes/machines may share one)")
+    ap.add_argument("--storage", default=f"sqlite:///{TUNING_DIR / 'tuning.db'}",
+                    help="optuna storage URL (several processes/machines may share one; default: the committed "
+                         "sqlite file agents/tuning/tuning.db, so a search resumes on another machine from a checkout)")
     ap.add_argument("--until", metavar="HH:MM", help="start no trial that would not end by then (today, local time)")
     ap.add_argument("--threads", type=int, help="numba threads for the envs")
     ap.add_argument("--status", action="store_true", help="the trials so far; runs nothing")
