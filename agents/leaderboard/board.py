@@ -299,7 +299,10 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
                                  algo=g.algo, training_seeds=g.seeds,
                                  timesteps=g.timesteps, train_wall_s=g.train_wall_s, model_dirs=g.dirs,
                                  headline=headline, inference=_inference(g.policies))
-        want = len(P.training_seeds(g.algo)) if g.algo in P.ALGORITHMS else None
+        if P.PROTOCOL_VERSION >= 2:
+            want = P.V2_SEEDS if g.algo in P.V2_ALGORITHMS else None
+        else:
+            want = len(P.training_seeds(g.algo)) if g.algo in P.ALGORITHMS else None
         if not g.shipped and want is not None and len(g.policies) < want:
             deviations.append(f"{g.row_name(tier)}: {len(g.policies)} training seeds (the protocol: {want})")
     # every pair of learned (and industry-practice) rows: which improves on which, paired by episode

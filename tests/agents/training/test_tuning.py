@@ -47,7 +47,7 @@ def test_a_tiny_study_runs_to_its_budget_and_exports_every_trial(tmp_path, monke
     chosen = yaml.safe_load((tmp_path / "v2" / "sac.yml").read_text())["BearingPreload-v0"]
     expect = S.sample(optuna.trial.FixedTrial(best["params"]), "sac")
     assert eval(chosen.pop("policy_kwargs"), {"dict": dict}) == expect.pop("policy_kwargs")
-    assert {k: chosen[k] for k in expect} == expect and chosen["n_timesteps"] == P.STEP_BUDGET_PER_RUN
+    assert {k: chosen[k] for k in expect} == expect and chosen["n_timesteps"] == P.V2_STEP_BUDGET_PER_RUN
 
 
 def test_a_trial_below_the_median_is_pruned_at_its_validation(tmp_path):
