@@ -191,7 +191,8 @@ def rule_choice(rule: str, grid_n, mean_returns, episode_returns=None, tier: str
     ``"best_mean"``: the highest mean return (the first of equal ones). ``"one_se_largest"``: the
     largest-preload candidate of ``grid_n`` whose mean is at least the best
     mean minus the standard error of the best candidate's mean, ``std(ddof=1) / sqrt(n)`` over its
-    ``n`` episode returns (0 for a single episode: then it is ``"best_mean"``)."""
+    ``n`` episode returns (0 for a single episode: then the best mean, the largest preload among
+    exactly equal means)."""
     import numpy as np
     means = np.asarray(mean_returns, dtype=float)
     if rule not in VALIDATION_RULES:
