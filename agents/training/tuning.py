@@ -263,7 +263,11 @@ def main(argv: list[str] | None = None) -> int:
     if a.status:
         import optuna
         for t in optuna.load_study(study_name=study_name(a.algo), storage=_storage(a.storage)).trials:
-            print(f"trial {t.number:3d} {t.state.name:9s} value {t.value} {t.params}")
+            where = ""
+            if t.intermediate_values:                   # how far a trial got: its last validation
+                step = max(t.intermediate_values)
+                where = f" (at {step:,} of {P.TUNING_STEPS:,} steps: score {t.intermediate_values[step]:.3f})"
+            print(f"trial {t.number:3d} {t.state.name:9s} value {t.value}{where} {t.params}")
         return 0
     if a.export:
         print(f"wrote {export(a.algo, a.storage)}")
