@@ -14,7 +14,7 @@ from typing import Any, Callable, Sequence, TypeVar
 
 import numpy as np
 
-__all__ = ["coordinate_ascent"]
+__all__ = ["coordinate_ascent", "mean_returns"]
 
 S = TypeVar("S")
 
@@ -46,3 +46,14 @@ def coordinate_ascent(start: S, coordinates: Callable[[S], Sequence[str]],
                 progress(f"{label}: round {r + 1}/{rounds}, {coord}: {describe(s)}, mean return {best:.2f} "
                          f"({(time.time() - t0) / 60:.1f} min)")
     return s, best, history
+
+
+def mean_returns(tier: str, episodes: int, seed: int, episode_steps: int, **run_kw: Any):
+    """The ascent's default ``evaluate``: each policy's mean return over episodes ``seed`` ..
+    ``seed + episodes - 1`` of ``tier``, all in one batch."""
+    from agents.evaluation.episodes import run_policies
+
+    def evaluate(policies: list) -> np.ndarray:
+        ran = run_policies(policies, episodes, seed, episode_steps, env_kwargs={"tier": tier}, **run_kw)
+        return np.array([float(np.mean(r.returns)) for r in ran])
+    return evaluate

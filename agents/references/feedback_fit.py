@@ -24,10 +24,9 @@ import numpy as np
 from bearing_gym.task import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
 
 from agents import protocol as P
-from agents.evaluation.episodes import run_policies
 from agents.paths import DATA_DIR
 from agents.policies.scripted import FeedbackRule
-from agents.references.ascent import coordinate_ascent
+from agents.references.ascent import coordinate_ascent, mean_returns
 
 __all__ = ["CANDIDATES", "fit_feedback", "feedback_path", "load_feedback", "main"]
 
@@ -55,9 +54,7 @@ def fit_feedback(tier: str, episodes: int = P.V2_FEEDBACK_TUNE_EPISODES, seed: i
         raise ValueError(f"tuning seeds {seed}..{seed + episodes - 1} must be validation seeds "
                          f"({P.VALIDATION.start}..{P.VALIDATION.stop - 1}): the test seeds tune nothing")
     if evaluate is None:
-        def evaluate(rules: list[FeedbackRule]) -> np.ndarray:
-            ran = run_policies(rules, episodes, seed, episode_steps, env_kwargs={"tier": tier}, **run_kw)
-            return np.array([float(np.mean(r.returns)) for r in ran])
+        evaluate = mean_returns(tier, episodes, seed, episode_steps, **run_kw)
     rule, best, history = coordinate_ascent(
         FeedbackRule(), lambda r: list(CANDIDATES),
         lambda r, name: [dataclasses.replace(r, **{name: v}) for v in CANDIDATES[name]], evaluate, rounds,

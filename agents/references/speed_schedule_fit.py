@@ -26,10 +26,9 @@ import numpy as np
 from bearing_gym.task import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
 
 from agents import protocol as P
-from agents.evaluation.episodes import run_policies
 from agents.paths import DATA_DIR
 from agents.policies.speed_schedule import SpeedSchedule
-from agents.references.ascent import coordinate_ascent
+from agents.references.ascent import coordinate_ascent, mean_returns
 
 __all__ = ["KINDS", "THRESHOLD_CANDIDATES_RPM", "TABLE_KNOTS_RPM", "initial", "fit_schedule", "schedule_path",
            "main"]
@@ -82,9 +81,7 @@ def fit_schedule(tier: str, kind: str, episodes: int = P.SCHEDULE_FIT_EPISODES, 
         raise ValueError(f"fit seeds {seed}..{seed + episodes - 1} must be training seeds ({P.TRAIN.start}.."
                          f"{P.TRAIN.stop - 1}): the schedule is fitted on training scenarios only")
     if evaluate is None:
-        def evaluate(schedules: list[SpeedSchedule]) -> np.ndarray:
-            ran = run_policies(schedules, episodes, seed, episode_steps, env_kwargs={"tier": tier}, **run_kw)
-            return np.array([float(np.mean(r.returns)) for r in ran])
+        evaluate = mean_returns(tier, episodes, seed, episode_steps, **run_kw)
     if start_n is None:
         from agents.references.store import load_choice
         choice = load_choice(tier)
