@@ -93,11 +93,8 @@ def make_executor(processes: int, ray_address: str | None):
     if ray_address is not None:
         from bearing_gym.analysis.ray_backend import RayExecutor
         return RayExecutor(None if ray_address == "local" else ray_address)
-    if processes > 1:
-        from multiprocessing import get_context
-        return cf.ProcessPoolExecutor(max_workers=processes, mp_context=get_context("spawn"))
-    from bearing_gym.analysis.sweeps import SerialExecutor
-    return SerialExecutor()
+    from bearing_gym.analysis.sweeps import SerialExecutor, local_process_pool
+    return local_process_pool(processes) if processes > 1 else SerialExecutor()
 
 
 def _bottom_levels(sel: Selection) -> dict[str, float]:

@@ -3,7 +3,6 @@ logic is :mod:`bearing_gym.analysis.sweeps.store`; this module maps options to i
 
 from __future__ import annotations
 
-import concurrent.futures as cf
 import csv
 import importlib.util
 import math
@@ -58,7 +57,7 @@ def sweep_pool(args, n_workers: int, quiet: bool) -> Callable[[], Any]:
         return ray_pool
 
     def local_pool():
-        return sweeps.SerialExecutor() if n_workers <= 1 else cf.ProcessPoolExecutor(max_workers=n_workers)
+        return sweeps.SerialExecutor() if n_workers <= 1 else sweeps.local_process_pool(n_workers)
     return local_pool
 
 

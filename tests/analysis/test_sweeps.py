@@ -83,3 +83,38 @@ def test_axial_index_picks_the_least_stable_mode_with_an_axial_share():
 def test_truthy_reads_csv_cells_and_values():
     assert [truthy(v) for v in ("True", " yes", "1", "False", "0", "", True, 0)] == \
         [True, True, True, False, False, False, True, False]
+
+
+_AFTER_THREADS_SCRIPT = '''
+import numpy as np
+
+def first_reward(seed):
+    from bearing_gym.envs.vector import BearingPreloadVectorEnv
+    env = BearingPreloadVectorEnv(num_envs=2, num_threads=2)
+    env.reset(seed=seed)
+    return float(env.step(np.zeros((2, 1), dtype=np.float32))[1][0])
+
+if __name__ == "__main__":
+    from bearing_gym.analysis.sweeps import run_tasks
+    here = first_reward(0)          # this process's numba OpenMP pool is now in use
+    there = run_tasks(first_reward, [(0,), (0,)], max_workers=2, progress=False)
+    import json
+    print(json.dumps([here] + there))
+'''
+
+
+def test_the_default_pool_runs_threaded_kernels_after_this_process_used_its_openmp_pool(tmp_path):
+    """A forked worker whose parent has used numba's OpenMP threading layer is terminated when it
+    runs a parallel kernel ("fork() called from a process already using GNU OpenMP"): the default
+    pool spawns its workers, and they give the parent's numbers bit for bit."""
+    import subprocess
+    import sys
+
+    script = tmp_path / "after_threads.py"
+    script.write_text(_AFTER_THREADS_SCRIPT)
+    done = subprocess.run([sys.executable, str(script)], capture_output=True, text=True, timeout=600)
+    assert done.returncode == 0, done.stderr[-2000:]
+    import json
+
+    here, *there = json.loads(done.stdout.strip().splitlines()[-1])
+    assert there == [here, here]

@@ -17,9 +17,9 @@ from .plots import column_label, plot_stability_map, plot_sweep, point_classes
 from .points import (AXIAL_SHARE, COLUMNS, SweepSettings, axial_index, axial_pair,
                      cold_start_point, continuation_chain, measure_point, operating_point)
 from .results import critical_preload, stable_windows
-from .runner import SerialExecutor, run_tasks, stability_map
+from .runner import SerialExecutor, local_process_pool, run_tasks, stability_map
 
-__all__ = ["COLUMNS", "SweepSettings", "SerialExecutor", "AXIAL_SHARE", "measure_point",
+__all__ = ["COLUMNS", "SweepSettings", "SerialExecutor", "local_process_pool", "AXIAL_SHARE", "measure_point",
            "axial_index", "axial_pair", "operating_point", "continuation_chain",
            "cold_start_point", "run_tasks", "stability_map", "critical_preload",
            "stable_windows", "save_csv", "load_csv", "save_npz", "plot_sweep",

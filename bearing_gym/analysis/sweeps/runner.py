@@ -19,7 +19,7 @@ from bearing_gym.params import BearingParams
 
 from .points import SweepSettings, cold_start_point, continuation_chain
 
-__all__ = ["SerialExecutor", "run_tasks", "stability_map"]
+__all__ = ["SerialExecutor", "local_process_pool", "run_tasks", "stability_map"]
 
 
 class SerialExecutor:
@@ -42,6 +42,17 @@ class SerialExecutor:
 
     def __exit__(self, *exc: Any) -> None:
         self.shutdown()
+
+
+def local_process_pool(max_workers: int) -> cf.ProcessPoolExecutor:
+    """A ``ProcessPoolExecutor`` whose workers are *spawned*, not forked: a process that has
+    loaded GNU OpenMP (torch does) must not fork (libgomp terminates the child: "fork() called
+    from a process already using GNU OpenMP, this is unsafe"), and a spawned worker inherits no
+    thread state. Workers load the kernels from numba's cache, so spawning costs about a
+    second per worker, once per pool."""
+    import multiprocessing
+
+    return cf.ProcessPoolExecutor(max_workers=max_workers, mp_context=multiprocessing.get_context("spawn"))
 
 
 def _progress(total: int, desc: str, enabled: bool):
@@ -72,14 +83,14 @@ def run_tasks(fn: Callable, arg_list: Sequence[tuple], executor=None, max_worker
     """``[fn(*args) for args in arg_list]`` on ``executor`` (any object with the
     ``concurrent.futures.Executor.submit`` interface), in input order, with a progress bar
     (tqdm if installed, else one line per finished task). ``fn`` must be picklable (a module
-    level function) for process executors. Default executor: ``ProcessPoolExecutor`` with
+    level function) for process executors. Default executor: :func:`local_process_pool` with
     ``max_workers`` (default: ``os.cpu_count()``) workers; with one task or one worker the
     calls run in this process."""
     arg_list = list(arg_list)
     own = executor is None
     if own:
         n = min(max_workers or os.cpu_count() or 1, len(arg_list))
-        executor = SerialExecutor() if n <= 1 else cf.ProcessPoolExecutor(max_workers=n)
+        executor = SerialExecutor() if n <= 1 else local_process_pool(n)
     bar = _progress(len(arg_list), desc, progress)
     try:
         futures = [executor.submit(fn, *args) for args in arg_list]
