@@ -40,6 +40,7 @@ __all__ = ["PROTOCOL_VERSION", "TRAIN", "VALIDATION", "TIER_DESIGN", "TEST", "RE
            "V2_ALGORITHMS", "V2_SEEDS", "V2_STEP_BUDGET_PER_RUN", "V2_EARLY_ROW_STEPS", "V2_VALIDATION_EPISODES_IN_TRAINING",
            "V2_START_BANK_STARTS", "V2_VALIDATION_RULE", "V2_PLANNER_SETTINGS_SHA256", "V2_CAUSAL_MPC_SETTINGS_SHA256",
            "V2_FEEDBACK_TUNE_EPISODES", "V2_FEEDBACK_TUNE_ROUNDS", "v2_training_seeds",
+           "OFFLINE_DATASET_SEED", "OFFLINE_DATASET_SEEDS",
            "training_seeds", "held_out_seeds", "validation_seeds", "episodes_for_tier",
            "preload_grid", "check_protocol"]
 
@@ -235,6 +236,13 @@ def validation_seeds(episodes: int = VALIDATION_CONSTANT_EPISODES, first: int = 
     return _block(first, episodes, VALIDATION, "validation")
 
 
+#: The offline datasets (agents.offline): their episodes are the training scenarios
+#: OFFLINE_DATASET_SEED .. + OFFLINE_DATASET_SEEDS - 1 (every dataset on the same scenarios, from
+#: the first), a block of TRAIN of their own, after the contextual fit's.
+OFFLINE_DATASET_SEED = TRAIN.start + 45_000
+OFFLINE_DATASET_SEEDS = 1_000
+
+
 def preload_grid(step_n: float, min_n: float | None = None, max_n: float | None = None) -> tuple[float, ...]:
     """Constant preloads from the actuator's minimum to its maximum (both included) every
     ``step_n`` newtons; the maximum is appended if ``step_n`` does not divide the range.
@@ -318,6 +326,10 @@ def check_protocol(**overrides: Any) -> None:
         raise ValueError(f"V2_VALIDATION_RULE must be one of {g['VALIDATION_RULES']}")
     if g["TRAIN"].start + g["V2_SEEDS"] * g["RUN_SEED_STRIDE"] > g["TUNING_TRAIN_SEED"]:
         raise ValueError("protocol v2's run seed blocks must end below the tuning trials' blocks")
+    offline = range(g["OFFLINE_DATASET_SEED"], g["OFFLINE_DATASET_SEED"] + g["OFFLINE_DATASET_SEEDS"])
+    if offline.start < fit.stop or offline.start < tuning.stop or offline.stop > train.stop:
+        raise ValueError(f"the offline datasets' seeds {offline.start}..{offline.stop - 1} must lie in TRAIN after the "
+                         "training runs', the tuning trials' and the contextual fit's blocks")
     for name in ("TEST_EPISODES", "VALIDATION_CONSTANT_EPISODES"):
         rng = g["TEST"] if name == "TEST_EPISODES" else g["VALIDATION"]
         if g[name] > len(rng):
