@@ -23,6 +23,7 @@ DATA_DIR = PACKAGE_DIR / "data"
 PRETRAINED_DIR = PACKAGE_DIR / "pretrained"
 HYPERPARAMS_DIR = PACKAGE_DIR / "hyperparams"
 TRAINED_DIR = PACKAGE_DIR / "trained"      # the protocol's trained runs (committed in a checkout)
+TRAINED_V2_DIR = PACKAGE_DIR / "trained_v2"   # protocol v2's runs (agents.training.protocol_runs --protocol 2)
 
 
 def checkout_root() -> Path | None:

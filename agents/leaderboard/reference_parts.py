@@ -5,16 +5,21 @@ would lose.
     python -m agents.leaderboard.reference_parts --tier transient --status        # what is done
     python -m agents.leaderboard.reference_parts --tier transient --next 3        # the next 3 missing sweep parts
     python -m agents.leaderboard.reference_parts --tier transient --until 05:40   # sweep parts while one can finish by then
+    python -m agents.leaderboard.reference_parts --tier transient --validation-row   # the validation constant's row
     python -m agents.leaderboard.reference_parts --tier transient --merge         # -> agents/data/test_references_<tier>.json
 
 The parts are the full leaderboard's references (:func:`agents.leaderboard.board._references`
 computes the same in one go) cut along the test episodes: ``sweep`` parts run the hindsight grid
-(which holds the validation-chosen constant) on ``SWEEP_PART_EPISODES`` consecutive test episodes
-and record each episode's hindsight constant; the upper reference, the planner, is planned one
-episode at a time by :mod:`agents.references.planner_runs` (which starts from those hindsight
-constants). Every episode's scenario comes from its own seed, so a part's rows equal those of
-the one-go run; the leaderboard checks it anyway, running the validation constant again on all
-episodes (:meth:`agents.references.store.StoredReferences.check_fresh`). Parts live in
+on ``SWEEP_PART_EPISODES`` consecutive test episodes and record each episode's hindsight
+constant; the upper reference, the planner, is planned one episode at a time by
+:mod:`agents.references.planner_runs` (which starts from those hindsight constants); the lower
+one, the validation-chosen constant, is run on every test episode once (``--validation-row``,
+``validation_row.json``). The hindsight does not depend on the validation constant: the constant
+is chosen on the same grid (VALIDATION_GRID_STEP_N = HINDSIGHT_GRID_STEP_N), so a new validation
+rule re-runs one constant, not the sweep and the planner. Every episode's scenario comes from
+its own seed, so a part's rows equal those of the one-go run; the leaderboard checks it anyway,
+running the validation constant again on all episodes
+(:meth:`agents.references.store.StoredReferences.check_fresh`). Parts live in
 ``agents/data/test_references_<tier>_parts/`` (small JSON files); ``--merge`` refuses a set with a
 part or a planned episode missing or made with other settings, and replays every plan and
 hindsight constant through the evaluation loop (the planner's row with all its metrics), checked
@@ -39,7 +44,7 @@ from bearing_gym.envs.provenance import kernel_hash
 
 from agents import protocol as P
 from agents.evaluation.result import EvalResult
-from agents.evaluation.episodes import hindsight_preloads, sweep_row
+from agents.evaluation.episodes import hindsight_preloads
 from agents.leaderboard.settings import FULL, Settings
 from agents.references import planner_runs
 from agents.references.store import STORE_PATH, load_choice, parts_dir
@@ -47,7 +52,8 @@ from agents.references.validation import hindsight_grid, hindsight_reference
 from agents.references.store import DATA_DIR, StoredReferences, result_from_json, result_to_json
 
 
-__all__ = ["SWEEP_PART_EPISODES", "parts_dir", "plan", "missing", "compute_part", "merge", "main"]
+__all__ = ["SWEEP_PART_EPISODES", "parts_dir", "plan", "missing", "compute_part", "validation_row_path",
+           "compute_validation_row", "validation_row_problems", "merge", "main"]
 
 SWEEP_PART_EPISODES = 10     # 35 constants x 10 episodes x 150 steps: about 6 min on 2 cores
 #: what ``--until`` assumes a part takes before one has been timed (generous; measured on 2 cores: 4.7-5.6 min)
@@ -81,74 +87,71 @@ def missing(tier: str, s: Settings | None = None, data_dir: Path = DATA_DIR) -> 
     return [p for p in plan(_tier_settings(tier, s)) if not fresh(_path(tier, *p, data_dir))]
 
 
-def _settings(tier: str, s: Settings, preload_n: float) -> dict[str, Any]:
-    """What every part of a set must share: the kernel (its fingerprint), the episodes' length,
-    the validation constant and the grid."""
-    return {"tier": tier, "kernel_hash": kernel_hash(), "episode_steps": s.episode_steps, "validation_preload_n": preload_n,
+def _settings(tier: str, s: Settings) -> dict[str, Any]:
+    """What every part of a set must share: the kernel (its fingerprint), the episodes' length and
+    the grid."""
+    return {"tier": tier, "kernel_hash": kernel_hash(), "episode_steps": s.episode_steps,
             "hindsight_grid_step_n": s.hindsight_grid_step_n}
 
 
-def compute_part(tier: str, kind: str, first: int, n: int, s: Settings | None = None, store: Path = STORE_PATH,
+def compute_part(tier: str, kind: str, first: int, n: int, s: Settings | None = None,
                  data_dir: Path = DATA_DIR) -> Path:
-    """Compute one part and write it; returns its path."""
+    """Compute one sweep part (the hindsight grid on ``n`` test episodes from seed ``first``) and
+    write it; returns its path."""
     if kind != "sweep":
         raise ValueError(f"kind must be 'sweep', got {kind!r} (the planner's episodes: agents.references.planner_runs)")
     s = _tier_settings(tier, s)
-    choice = load_choice(tier, store)
     t0 = time.time()
-    head = _settings(tier, s, choice.preload_n)
-    hindsight, sweep = hindsight_reference(tier, n, first, s.episode_steps, s.hindsight_grid_step_n,
-                                           extra_n=(choice.preload_n,))
-    rows = {"validation constant": result_to_json(sweep_row(sweep, choice.preload_n)),
-            "hindsight": result_to_json(hindsight)}
+    hindsight, sweep = hindsight_reference(tier, n, first, s.episode_steps, s.hindsight_grid_step_n)
     path = _path(tier, kind, first, n, data_dir)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    tmp = path.with_suffix(".tmp")                 # a part is there whole or not at all
-    tmp.write_text(json.dumps({**head, "kind": kind, "first_seed": first, "episodes": n, "rows": rows,
-                               "hindsight_preload_n": hindsight_preloads(sweep, hindsight_grid(s.hindsight_grid_step_n, (choice.preload_n,))),
-                               "wall_s": time.time() - t0}) + "\n")
-    os.replace(tmp, path)
+    _write(path, {**_settings(tier, s), "kind": kind, "first_seed": first, "episodes": n,
+                  "rows": {"hindsight": result_to_json(hindsight)},
+                  "hindsight_preload_n": hindsight_preloads(sweep, hindsight_grid(s.hindsight_grid_step_n)),
+                  "wall_s": time.time() - t0})
     return path
 
 
-def add_hindsight_preloads(tier: str, s: Settings | None = None, data_dir: Path = DATA_DIR,
-                           store: Path = STORE_PATH, candidates: int = 3) -> list[Path]:
-    """Give the sweep parts made before parts recorded each episode's hindsight constant
-    (``hindsight_preload_n``) that record, without sweeping the grid again: per episode the
-    ``candidates`` grid constants nearest the hindsight row's mean preload are run, and the one
-    whose return equals the stored hindsight return bit for bit is it (the lowest of them on a
-    tie, as the sweep picks the first; the whole grid where none of them matches). Returns the parts
-    changed; the planner then starts from them (:func:`agents.references.store.stored_hindsight`)."""
+def _write(path: Path, payload: dict[str, Any]) -> None:
+    path.parent.mkdir(parents=True, exist_ok=True)
+    tmp = path.with_suffix(".tmp")                 # a part is there whole or not at all
+    tmp.write_text(json.dumps(payload) + "\n")
+    os.replace(tmp, path)
+
+
+def validation_row_path(tier: str, data_dir: Path = DATA_DIR) -> Path:
+    return parts_dir(tier, data_dir) / "validation_row.json"
+
+
+def compute_validation_row(tier: str, s: Settings | None = None, store: Path = STORE_PATH,
+                           data_dir: Path = DATA_DIR) -> Path:
+    """The stored validation constant (by the protocol's rule) on every test episode of ``tier``,
+    written to :func:`validation_row_path`; returns the path."""
     from agents.evaluation.episodes import constant_sweep
     s = _tier_settings(tier, s)
-    changed = []
-    for kind, first, n in plan(s):
-        path = _path(tier, kind, first, n, data_dir)
-        part = json.loads(path.read_text()) if path.exists() else None
-        if part is None or part.get("kernel_hash") != kernel_hash() or part.get("hindsight_preload_n") is not None:
-            continue
-        row = part["rows"]["hindsight"]
-        # the grid and the episodes the part itself was swept on (not today's settings)
-        grid = hindsight_grid(part["hindsight_grid_step_n"], (part["validation_preload_n"],))
-        picks = []
-        for k in range(n):
-            want = float(row["returns"][k])
-            near = sorted(grid, key=lambda p: (abs(p - row["mean_preload"][k]), p))[:candidates]
-            for pool in (sorted(near), list(grid)):
-                runs = constant_sweep(pool, 1, first + k, part["episode_steps"], env_kwargs={"tier": tier})
-                hits = [p for p, r in zip(pool, runs) if float(r.returns[0]) == want]
-                if hits:
-                    picks.append(float(hits[0]))
-                    break
-            else:
-                raise RuntimeError(f"tier {tier} seed {first + k}: no constant of the grid returns the stored "
-                                   f"hindsight return {want!r}: the part is stale")
-        part["hindsight_preload_n"] = picks
-        tmp = path.with_suffix(".tmp")
-        tmp.write_text(json.dumps(part) + "\n")
-        os.replace(tmp, path)
-        changed.append(path)
-    return changed
+    choice = load_choice(tier, store)
+    seeds = P.held_out_seeds(s.episodes)
+    t0 = time.time()
+    (row,) = constant_sweep([choice.preload_n], s.episodes, seeds[0], s.episode_steps, env_kwargs={"tier": tier})
+    path = validation_row_path(tier, data_dir)
+    _write(path, {**_settings(tier, s), "first_seed": seeds[0], "episodes": s.episodes, "preload_n": choice.preload_n,
+                  "rule": choice.rule, "row": result_to_json(row), "wall_s": time.time() - t0})
+    return path
+
+
+def validation_row_problems(tier: str, s: Settings | None = None, store: Path = STORE_PATH,
+                            data_dir: Path = DATA_DIR) -> list[str]:
+    """What keeps the stored validation row from being today's (empty: nothing): absent, or made
+    by another kernel, on other episodes or for another constant than the store's choice."""
+    s = _tier_settings(tier, s)
+    path = validation_row_path(tier, data_dir)
+    try:
+        d = json.loads(path.read_text())
+    except (OSError, ValueError):
+        return [f"no validation row in {path}"]
+    choice = load_choice(tier, store)
+    want = {**_settings(tier, s), "first_seed": P.held_out_seeds(s.episodes)[0], "episodes": s.episodes,
+            "preload_n": choice.preload_n, "rule": choice.rule}
+    return [f"{path.name} has {k} = {d.get(k)!r}, today's is {v!r}" for k, v in want.items() if d.get(k) != v]
 
 
 def merge(tier: str, s: Settings | None = None, data_dir: Path = DATA_DIR, store: Path = STORE_PATH,
@@ -160,7 +163,7 @@ def merge(tier: str, s: Settings | None = None, data_dir: Path = DATA_DIR, store
     if todo:
         raise FileNotFoundError(f"{len(todo)} parts of tier {tier} are missing (first: {todo[0][0]} from seed "
                                 f"{todo[0][1]}); compute them with `python -m agents.leaderboard.reference_parts --tier {tier} --next {len(todo)}`")
-    want = _settings(tier, s, load_choice(tier, store).preload_n)
+    want = _settings(tier, s)
     layout = plan(s)
     parts = [json.loads(_path(tier, *p, data_dir).read_text()) for p in layout]
     for (kind, first, n), part in zip(layout, parts):
@@ -175,6 +178,15 @@ def merge(tier: str, s: Settings | None = None, data_dir: Path = DATA_DIR, store
         for row, r in part["rows"].items():
             if len(r["returns"]) != n:
                 raise ValueError(f"{name}: its {row} row has {len(r['returns'])} episodes, not {n}")
+
+    stale = validation_row_problems(tier, s, store, data_dir)
+    if stale:
+        raise ValueError(f"the validation constant's row of tier {tier}: {stale[0]}; compute it again: "
+                         f"`python -m agents.leaderboard.reference_parts --tier {tier} --validation-row`")
+    vrow = json.loads(validation_row_path(tier, data_dir).read_text())
+    if vrow["preload_n"] not in hindsight_grid(s.hindsight_grid_step_n):
+        raise ValueError(f"tier {tier}: the validation constant {vrow['preload_n']:g} N is not on the hindsight grid "
+                         f"(step {s.hindsight_grid_step_n:g} N), so the hindsight row would not bound it")
 
     def joined(row: str) -> EvalResult:
         return EvalResult.concat([result_from_json(p["rows"][row]) for p in parts])
@@ -201,8 +213,8 @@ def merge(tier: str, s: Settings | None = None, data_dir: Path = DATA_DIR, store
                                       progress=f"{tier}: replaying {len(plans)} plans" if progress else None)
         planner_settings = s.planner_settings()
         wall = float(np.mean([p.wall_s for p in plans]))
-    refs = StoredReferences(tier, tuple(seeds), s.episode_steps, want["validation_preload_n"], s.hindsight_grid_step_n,
-                            joined("validation constant"), hindsight, planner, planner_settings, wall)
+    refs = StoredReferences(tier, tuple(seeds), s.episode_steps, vrow["preload_n"], s.hindsight_grid_step_n,
+                            result_from_json(vrow["row"]), hindsight, planner, planner_settings, wall)
     return refs.save(data_dir)
 
 
@@ -213,11 +225,10 @@ def main(argv: list[str] | None = None) -> int:
     g.add_argument("--status", action="store_true", help="which parts are done")
     g.add_argument("--next", type=int, metavar="K", help="compute the next K missing parts")
     g.add_argument("--until", metavar="HH:MM", help="compute parts while the next can finish before this time")
+    g.add_argument("--validation-row", action="store_true",
+                   help="run the stored validation constant on every test episode (the board's 0)")
     g.add_argument("--merge", action="store_true", help="join the parts and the planned episodes into "
                                                          "agents/data/test_references_<tier>.json")
-    g.add_argument("--add-hindsight-preloads", action="store_true",
-                   help="record each episode's hindsight constant in parts made before parts did (a few "
-                        "constants run per episode, matched bit for bit), for the planner to start from")
     ap.add_argument("--without-planner", action="store_true",
                     help="--merge without the planner (its board scores against the hindsight constant: a deviation)")
     ap.add_argument("--data-dir", default=str(DATA_DIR))
@@ -235,9 +246,8 @@ def main(argv: list[str] | None = None) -> int:
               + f"; planner: {s.episodes - len(unplanned)}/{s.episodes} episodes"
               + ("" if todo or unplanned else "; merge them: --merge"))
         return 0
-    if a.add_hindsight_preloads:
-        for path in add_hindsight_preloads(a.tier, s, data_dir=data_dir):
-            print(f"{path}: each episode's hindsight constant recorded", flush=True)
+    if a.validation_row:
+        print(f"wrote {compute_validation_row(a.tier, s, data_dir=data_dir)}")
         return 0
     if a.merge:
         print(f"wrote {merge(a.tier, s, data_dir=data_dir, with_planner=not a.without_planner, progress=True)}")

@@ -28,7 +28,7 @@ from agents.paths import DATA_DIR
 from agents.policies.scripted import FeedbackRule
 from agents.references.ascent import coordinate_ascent, mean_returns
 
-__all__ = ["CANDIDATES", "fit_feedback", "feedback_path", "load_feedback", "main"]
+__all__ = ["CANDIDATES", "fit_feedback", "feedback_path", "load_feedback", "write_fit", "fit_problems", "main"]
 
 #: each tuned setting's candidates, in the order the ascent sets them
 CANDIDATES: dict[str, tuple] = {
@@ -79,19 +79,45 @@ def load_feedback(tier: str, data_dir: Path = DATA_DIR) -> FeedbackRule:
     return rule
 
 
+def write_fit(tier: str, out: Path | None = None, episodes: int | None = None,
+              rounds: int = P.V2_FEEDBACK_TUNE_ROUNDS, episode_steps: int = EPISODE_STEPS,
+              progress: Callable[[str], None] | None = print) -> Path:
+    """Tune the rule on ``tier`` (the protocol's episodes by default) and write it with its record
+    and the kernel's fingerprint; returns the path."""
+    from bearing_gym.envs.provenance import kernel_hash
+    import time
+    t0 = time.time()
+    n = P.episodes_for_tier(tier, P.V2_FEEDBACK_TUNE_EPISODES) if episodes is None else episodes
+    rule, meta = fit_feedback(tier, episodes=n, rounds=rounds, episode_steps=episode_steps, progress=progress)
+    out = Path(out) if out is not None else feedback_path(tier)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(json.dumps({"rule": _setting(rule), **meta, "wall_s": time.time() - t0,
+                               "kernel_hash": kernel_hash()}, indent=1) + "\n")
+    return out
+
+
+def fit_problems(tier: str, path: Path, episodes: int, rounds: int, episode_steps: int) -> list[str]:
+    """What keeps the stored fit at ``path`` from being what fitting now would write (empty:
+    nothing): absent, another kernel, other episodes, rounds or candidates."""
+    from bearing_gym.envs.provenance import kernel_hash
+    try:
+        d = json.loads(Path(path).read_text())
+    except (OSError, ValueError):
+        return [f"no fit in {path}"]
+    want = {"kernel_hash": kernel_hash(), "tier": tier, "seeds": [P.VALIDATION.start, P.VALIDATION.start + episodes - 1],
+            "episode_steps": episode_steps, "rounds": rounds,
+            "candidates": {k: list(v) for k, v in CANDIDATES.items()}}
+    return [f"{k}: stored {str(d.get(k))[:40]}, today's {str(v)[:40]}" for k, v in want.items() if d.get(k) != v]
+
+
 def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(prog="python -m agents.references.feedback_fit", description=__doc__.split("\n\n")[0])
     ap.add_argument("--tier", choices=TIER_NAMES, default=DEFAULT_TIER)
     ap.add_argument("--out", help="output JSON (default agents/data/feedback_rule_<tier>.json)")
     a = ap.parse_args(argv)
-    from bearing_gym.envs.provenance import kernel_hash
-    import time
-    t0 = time.time()
-    rule, meta = fit_feedback(a.tier, episodes=P.episodes_for_tier(a.tier, P.V2_FEEDBACK_TUNE_EPISODES))
-    out = Path(a.out) if a.out else feedback_path(a.tier)
-    out.write_text(json.dumps({"rule": _setting(rule), **meta, "wall_s": time.time() - t0,
-                               "kernel_hash": kernel_hash()}, indent=1) + "\n")
-    print(f"wrote {out}: {_setting(rule)}, mean validation return {meta['mean_return']:.2f}")
+    out = write_fit(a.tier, Path(a.out) if a.out else None)
+    d = json.loads(out.read_text())
+    print(f"wrote {out}: {d['rule']}, mean validation return {d['mean_return']:.2f}")
 
 
 if __name__ == "__main__":

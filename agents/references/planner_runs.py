@@ -39,7 +39,7 @@ from agents.policies.planner import PlannerSettings, PlanResult, ScheduledPreloa
 from agents.protocol import TEST, TEST_EPISODES, episodes_for_tier
 from agents.references.store import stored_hindsight
 
-__all__ = ["planner_dir", "episode_path", "missing", "load_plans", "replay", "run", "main", "episodes_main", "fresh_run"]
+__all__ = ["planner_dir", "episode_path", "missing", "problems", "load_plans", "replay", "run", "main", "episodes_main", "fresh_run"]
 
 #: the --until estimate before an episode of this run is done: a whole episode took 95-125 s on
 #: average on `field` and `transient` on the 2-core development VM (the other core busy), a
@@ -75,6 +75,26 @@ def missing(tier: str, episodes: int | None = None, settings: PlannerSettings = 
             episode_steps: int = EPISODE_STEPS, data_dir: Path = DATA_DIR) -> list[int]:
     """The test seeds still to plan: absent, or made by another kernel or with other settings."""
     return [s for s in _seeds(tier, episodes) if not fresh_run(episode_path(tier, s, data_dir), settings, episode_steps)]
+
+
+def problems(tier: str, episodes: int | None, settings: PlannerSettings, episode_steps: int,
+             grid_step_n: float, data_dir: Path = DATA_DIR) -> list[str]:
+    """What keeps the stored episodes from being what planning them now would write (empty:
+    nothing; the regeneration's check for adopting them): an episode missing, made by another
+    kernel, with other settings or episode length, or started from another hindsight constant
+    than the stored sweep parts hold (the planner is deterministic in exactly these)."""
+    out = []
+    for seed in _seeds(tier, episodes):
+        path = episode_path(tier, seed, data_dir)
+        if not fresh_run(path, settings, episode_steps):
+            out.append(f"seed {seed}: missing, or planned by another kernel, settings or episode length")
+            continue
+        d = json.loads(path.read_text())
+        start = stored_hindsight(tier, seed, grid_step_n, episode_steps, data_dir)
+        if start is None or (d.get("hindsight_preload_n"), d.get("hindsight_return")) != start:
+            out.append(f"seed {seed}: started from {d.get('hindsight_preload_n')} N (return {d.get('hindsight_return')}), "
+                       f"the sweep parts hold {start}")
+    return out
 
 
 def load_plans(tier: str, episodes: int | None = None, settings: PlannerSettings = PlannerSettings(),

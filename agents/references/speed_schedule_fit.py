@@ -31,7 +31,7 @@ from agents.policies.speed_schedule import SpeedSchedule
 from agents.references.ascent import coordinate_ascent, mean_returns
 
 __all__ = ["KINDS", "THRESHOLD_CANDIDATES_RPM", "TABLE_KNOTS_RPM", "initial", "fit_schedule", "schedule_path",
-           "main"]
+           "write_fit", "fit_problems", "main"]
 
 KINDS = ("2-level", "3-level", "table")
 #: where a switch may sit (rpm): the tiers' speeds are 10,000-25,000 rpm
@@ -82,12 +82,8 @@ def fit_schedule(tier: str, kind: str, episodes: int = P.SCHEDULE_FIT_EPISODES, 
                          f"{P.TRAIN.stop - 1}): the schedule is fitted on training scenarios only")
     if evaluate is None:
         evaluate = mean_returns(tier, episodes, seed, episode_steps, **run_kw)
-    if start_n is None:
-        from agents.references.store import load_choice
-        choice = load_choice(tier)
-        start_n = choice.preload_for_rule(P.V2_VALIDATION_RULE)
     grid = P.preload_grid(grid_step_n)
-    start_n = min(grid, key=lambda p: abs(p - start_n))
+    start_n = _start_n(tier, None, grid_step_n) if start_n is None else min(grid, key=lambda p: abs(p - start_n))
     t0 = time.time()
     s, best, history = coordinate_ascent(
         initial(kind, start_n), _coordinates, lambda sch, coord: _variants(sch, coord, grid), evaluate, rounds,
@@ -103,17 +99,57 @@ def schedule_path(tier: str, kind: str, data_dir: Path = DATA_DIR) -> Path:
     return data_dir / f"speed_schedule_{tier}_{kind}.json"
 
 
+def _start_n(tier: str, store: Path | None, grid_step_n: float) -> float:
+    """The fit's starting level: the tier's stored validation constant by protocol v2's rule, on the grid."""
+    from agents.references.store import STORE_PATH, load_choice
+    start = load_choice(tier, STORE_PATH if store is None else store).preload_for_rule(P.V2_VALIDATION_RULE)
+    return min(P.preload_grid(grid_step_n), key=lambda p: abs(p - start))
+
+
+def write_fit(tier: str, kind: str, out: Path | None = None, episodes: int | None = None,
+              rounds: int = P.SCHEDULE_FIT_ROUNDS, episode_steps: int = EPISODE_STEPS, store: Path | None = None,
+              progress: Callable[[str], None] | None = print) -> Path:
+    """Fit ``kind`` on ``tier`` (the protocol's episodes by default), starting from the validation
+    constant in ``store``, and write it with its record and the kernel's fingerprint; returns the path."""
+    from bearing_gym.envs.provenance import kernel_hash
+    n = P.episodes_for_tier(tier, P.SCHEDULE_FIT_EPISODES) if episodes is None else episodes
+    s, meta = fit_schedule(tier, kind, episodes=n, rounds=rounds, episode_steps=episode_steps,
+                           start_n=_start_n(tier, store, P.CONTEXTUAL_GRID_STEP_N), progress=progress)
+    out = Path(out) if out is not None else schedule_path(tier, kind)
+    out.parent.mkdir(parents=True, exist_ok=True)
+    out.write_text(json.dumps({"schedule": s.to_json(), **meta, "kernel_hash": kernel_hash()}, indent=1) + "\n")
+    return out
+
+
+def fit_problems(tier: str, kind: str, path: Path, episodes: int, rounds: int, episode_steps: int,
+                 store: Path | None = None) -> list[str]:
+    """What keeps the stored fit at ``path`` from being what fitting now would write (empty:
+    nothing): absent, another kernel, other episodes, grid or rounds, or another start (its
+    history's first record: the initial schedule at the validation constant)."""
+    from bearing_gym.envs.provenance import kernel_hash
+    try:
+        d = json.loads(Path(path).read_text())
+    except (OSError, ValueError):
+        return [f"no fit in {path}"]
+    grid = P.CONTEXTUAL_GRID_STEP_N
+    want = {"kernel_hash": kernel_hash(), "tier": tier, "kind": kind,
+            "seeds": [P.SCHEDULE_FIT_SEED, P.SCHEDULE_FIT_SEED + episodes - 1], "episode_steps": episode_steps,
+            "grid_step_n": grid, "rounds": rounds}
+    out = [f"{k}: stored {str(d.get(k))[:40]}, today's {str(v)[:40]}" for k, v in want.items() if d.get(k) != v]
+    start = initial(kind, _start_n(tier, store, grid)).to_json()
+    if (d.get("history") or [{}])[0].get("setting") != start:
+        out.append(f"start: stored {str((d.get('history') or [{}])[0].get('setting'))[:60]}, today's {start}")
+    return out
+
+
 def main(argv: list[str] | None = None) -> None:
     ap = argparse.ArgumentParser(prog="python -m agents.references.speed_schedule_fit", description=__doc__.split("\n\n")[0])
     ap.add_argument("--tier", choices=TIER_NAMES, default=DEFAULT_TIER)
     ap.add_argument("--kind", choices=KINDS, required=True)
     ap.add_argument("--out", help="output JSON (default agents/data/speed_schedule_<tier>_<kind>.json)")
     a = ap.parse_args(argv)
-    from bearing_gym.envs.provenance import kernel_hash
-    s, meta = fit_schedule(a.tier, a.kind, episodes=P.episodes_for_tier(a.tier, P.SCHEDULE_FIT_EPISODES))
-    out = Path(a.out) if a.out else schedule_path(a.tier, a.kind)
-    out.write_text(json.dumps({"schedule": s.to_json(), **meta, "kernel_hash": kernel_hash()}, indent=1) + "\n")
-    print(f"wrote {out}: {s.name} {s.to_json()}")
+    out = write_fit(a.tier, a.kind, Path(a.out) if a.out else None)
+    print(f"wrote {out}: {json.loads(out.read_text())['schedule']}")
 
 
 if __name__ == "__main__":

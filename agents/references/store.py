@@ -52,7 +52,7 @@ from agents.evaluation.result import EvalResult
 from agents.paths import DATA_DIR
 
 
-__all__ = ["STORE_PATH", "ValidationChoice", "load_choice", "save_choice", "rebuild_command", "validation_episodes",
+__all__ = ["STORE_PATH", "ValidationChoice", "load_choice", "save_choice", "validation_problems", "rebuild_command", "validation_episodes",
            "StoredReferences", "references_path", "parts_dir", "stored_hindsight", "load_references", "result_to_json", "result_from_json",
            "STALE_TOLERANCE", "DATA_DIR"]
 
@@ -226,6 +226,30 @@ def load_choice(tier: str, path: str | Path = STORE_PATH) -> ValidationChoice:
         raise LookupError(f"no validation-chosen constant for tier {tier!r} in {path}; build it with "
                           f"`{rebuild_command(tier)}`")
     return ValidationChoice.from_json(tier, entry)
+
+
+def validation_problems(tier: str, path: str | Path, episodes: int, episode_steps: int,
+                        grid_step_n: float) -> list[str]:
+    """What keeps the stored choice of ``tier`` from being what choosing it now would store
+    (empty: nothing; the regeneration's check for adopting it): absent, made by another kernel,
+    on other validation episodes or another grid, or picked by another rule than the
+    protocol's (``agents.protocol.VALIDATION_RULE``; the pick itself is checked against the
+    stored returns on loading)."""
+    from bearing_gym.envs.provenance import kernel_hash
+    from agents.protocol import VALIDATION_RULE
+    try:
+        c = load_choice(tier, path)
+    except (LookupError, ValueError) as err:
+        return [str(err)]
+    want = {"kernel_hash": kernel_hash(), "seeds": tuple(range(VALIDATION.start, VALIDATION.start + episodes)),
+            "episode_steps": episode_steps, "grid_step_n": grid_step_n, "grid_n": preload_grid(grid_step_n),
+            "rule": VALIDATION_RULE}
+    return [f"{k}: stored {_brief(getattr(c, k))}, today's {_brief(v)}" for k, v in want.items() if getattr(c, k) != v]
+
+
+def _brief(v) -> str:
+    s = repr(v)
+    return s if len(s) <= 40 else s[:37] + "..."
 
 
 def save_choice(choice: ValidationChoice, path: str | Path = STORE_PATH) -> None:

@@ -21,7 +21,7 @@ from typing import Any
 from agents.paths import PACKAGE_DIR
 
 __all__ = ["reward_map", "stability_table", "start_bank", "validation_constant", "commit_validation",
-           "contextual_fit", "planner_episode", "board_tier", "commit_board_tier", "chaos_replica", "chaos_summary",
+           "contextual_fit", "planner_episode", "causal_mpc_episode", "feedback_fit", "speed_schedule_fit", "board_tier", "commit_board_tier", "chaos_replica", "chaos_summary",
            "commit_tier_gap", "evaluation_traces", "command", "examples", "example_files", "board_digest", "EXAMPLES",
            "CHECKOUT"]
 
@@ -78,6 +78,26 @@ def planner_episode(tier: str, seed: int, settings, episode_steps: int, data_dir
     from agents.references import planner_runs
     planner_runs.episode_path(tier, seed, data_dir).unlink(missing_ok=True)
     planner_runs.run(tier, [seed], settings, episode_steps, data_dir)
+
+
+def causal_mpc_episode(tier: str, seed: int, settings, episode_steps: int, data_dir: Path) -> None:
+    """``python -m agents.references.causal_mpc_runs`` on one test episode."""
+    from agents.references import causal_mpc_runs
+    causal_mpc_runs.episode_path(tier, seed, data_dir).unlink(missing_ok=True)
+    causal_mpc_runs.run(tier, [seed], settings, episode_steps, data_dir)
+
+
+def feedback_fit(out: Path, tier: str, episodes: int, rounds: int, episode_steps: int) -> None:
+    """``python -m agents.references.feedback_fit --tier T --out OUT``."""
+    from agents.references.feedback_fit import write_fit
+    write_fit(tier, out, episodes, rounds, episode_steps, progress=None)
+
+
+def speed_schedule_fit(out: Path, tier: str, kind: str, episodes: int, rounds: int, episode_steps: int,
+                       store: Path) -> None:
+    """``python -m agents.references.speed_schedule_fit --tier T --kind K --out OUT``."""
+    from agents.references.speed_schedule_fit import write_fit
+    write_fit(tier, kind, out, episodes, rounds, episode_steps, store, progress=None)
 
 
 def board_tier(tier: str, settings, model_dirs: tuple[str, ...], store: Path, data_dir: Path,

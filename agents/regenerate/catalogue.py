@@ -20,7 +20,7 @@ from agents.policies.contextual import contextual_path
 from agents.policies.oracle import build_table
 from agents.policies.planner import PlannerSettings
 from agents.references import planner_runs
-from agents.references.store import parts_dir, references_path
+from agents.references.store import parts_dir, references_path, validation_problems
 import agents.regenerate.builders as B
 from agents.regenerate.docs_products import docs_products
 from agents.regenerate.product import (PART_OVERHEAD_S, SETTLE_STEPS, STEP_CORE_S, Layout, Part, Product, env_cost,
@@ -84,7 +84,9 @@ def _maps(prof: Profile, L: Layout) -> list[Product]:
 
 
 def _references(prof: Profile, L: Layout, tier: str) -> list[Product]:
-    """The validation constant, the contextual fit and the test references of ``tier``."""
+    """The validation constant, the contextual fit and the test references of ``tier`` (the
+    hindsight sweep and the planner do not depend on the validation constant: a new validation
+    rule re-runs its row alone)."""
     s = prof.board_for(tier)
     store = L.data / "reference_constants.json"
     v_episodes, c_episodes = prof.validation_for(tier), prof.contextual_for(tier)
@@ -100,8 +102,9 @@ def _references(prof: Profile, L: Layout, tier: str) -> list[Product]:
                 (Part("choice", B.validation_constant, (tier, v_episodes, steps, s.hindsight_grid_step_n),
                       env_cost(v_episodes, steps, grid), functools.partial(B.commit_validation, store)),),
                 settings={"tier": tier, "episodes": v_episodes, "first_seed": P.VALIDATION.start,
-                          "episode_steps": steps, "grid_step_n": s.hindsight_grid_step_n},
+                          "episode_steps": steps, "grid_step_n": s.hindsight_grid_step_n, "rule": P.VALIDATION_RULE},
                 digest=functools.partial(json_entry_digest, store, "tiers", tier),
+                verify=functools.partial(validation_problems, tier, store, v_episodes, steps, s.hindsight_grid_step_n),
                 command=f"python -m agents.references --tier {tier} --episodes {v_episodes}"),
         Product(f"contextual:{tier}", f"the contextual constant's fit on {tier} training-range scenarios", (ctx_out,),
                 (Part("fit", B.contextual_fit, (ctx_out, tier, c_episodes, steps, prof.contextual_grid_step_n),
@@ -111,30 +114,92 @@ def _references(prof: Profile, L: Layout, tier: str) -> list[Product]:
                 command=f"python -m agents.references.contextual_fit --tier {tier} --episodes {c_episodes}"),
         Product(f"sweep:{tier}", f"the hindsight sweep of the {tier} test episodes, in parts",
                 tuple(parts_dir(tier, L.data) / f"{k}_{first}_{n}.json" for k, first, n in sweep_parts),
-                tuple(Part(f"{k}_{first}_{n}", reference_parts.compute_part, (tier, k, first, n, s, store, L.data),
-                           env_cost(n, steps, grid + 1)) for k, first, n in sweep_parts),
-                upstream=(f"validation:{tier}",),
+                tuple(Part(f"{k}_{first}_{n}", reference_parts.compute_part, (tier, k, first, n, s, L.data),
+                           env_cost(n, steps, grid)) for k, first, n in sweep_parts),
                 settings={**test, "grid_step_n": s.hindsight_grid_step_n, "part_episodes": reference_parts.SWEEP_PART_EPISODES},
                 command=f"python -m agents.leaderboard.reference_parts --tier {tier} --until HH:MM"),
+        Product(f"validation_row:{tier}", f"the validation constant on every {tier} test episode (the board's 0)",
+                (reference_parts.validation_row_path(tier, L.data),),
+                (Part("row", reference_parts.compute_validation_row, (tier, s, store, L.data), env_cost(s.episodes, steps)),),
+                upstream=(f"validation:{tier}",), settings=test,
+                command=f"python -m agents.leaderboard.reference_parts --tier {tier} --validation-row"),
         Product(f"planner:{tier}", f"the planner on every {tier} test episode, one file per episode",
                 tuple(planner_runs.episode_path(tier, seed, L.data) for seed in seeds),
                 tuple(Part(f"seed_{seed}", B.planner_episode, (tier, seed, planner, steps, L.data),
                            PART_OVERHEAD_S + PLANNER_EPISODE_S.get(tier, 114.0) * steps / EPISODE_STEPS) for seed in seeds),
                 upstream=(f"sweep:{tier}",), settings={**test, "planner": planner},
+                verify=functools.partial(planner_runs.problems, tier, s.episodes, planner, steps, s.hindsight_grid_step_n,
+                                         L.data),
                 command=f"python -m agents.references.planner_runs --tier {tier} --until HH:MM"),
         Product(f"references:{tier}", f"the stored test references of {tier} (sweep and planner merged, every plan "
                 "replayed)", (references_path(tier, L.data),),
                 (Part("merge", reference_parts.merge, (tier, s, L.data, store, True, True), env_cost(s.episodes, steps, 2)),),
-                upstream=(f"validation:{tier}", f"sweep:{tier}", f"planner:{tier}"), settings=test,
+                upstream=(f"validation_row:{tier}", f"sweep:{tier}", f"planner:{tier}"), settings=test,
                 command=f"python -m agents.leaderboard.reference_parts --tier {tier} --merge"),
     ]
+
+
+#: measured on kernel 6ff3acfe31277804 (one core, the other busy), on transient: the causal MPC per
+#: test episode (agents/data/causal_mpc_transient/seed_*.json, wall_s), the feedback rule's fit (50
+#: validation episodes, 2 rounds) and a speed schedule's (50 training episodes, 2 rounds)
+CAUSAL_MPC_EPISODE_S = 10.7
+FEEDBACK_FIT_S = 1014.0
+SCHEDULE_FIT_S = 1208.0
+
+
+def _baselines(prof: Profile, L: Layout, tier: str) -> list[Product]:
+    """The industry and model-based rows' data of ``tier`` (agents.leaderboard.baselines): the causal
+    MPC's runs, the tuned feedback rule, the fitted speed schedules."""
+    from agents.policies.causal_mpc import CausalMPCSettings
+    from agents.references import causal_mpc_runs, feedback_fit, speed_schedule_fit
+    s, b = prof.board_for(tier), prof.baselines
+    steps, mpc = s.episode_steps, CausalMPCSettings()
+    seeds = causal_mpc_runs.test_seeds(tier, s.episodes)
+    scale = steps / EPISODE_STEPS
+    fb_n = P.episodes_for_tier(tier, b["feedback_episodes"])
+    sch_n = P.episodes_for_tier(tier, b["schedule_episodes"])
+    fb_out = feedback_fit.feedback_path(tier, L.data)
+    store = L.data / "reference_constants.json"
+
+    def mpc_problems() -> list[str]:
+        return [f"seed {seed}: missing, or run by another kernel or settings"
+                for seed in causal_mpc_runs.missing(tier, s.episodes, mpc, steps, L.data)]
+    out = [
+        Product(f"causal_mpc:{tier}", f"the causal MPC on every {tier} test episode, one file per episode",
+                tuple(causal_mpc_runs.episode_path(tier, seed, L.data) for seed in seeds),
+                tuple(Part(f"seed_{seed}", B.causal_mpc_episode, (tier, seed, mpc, steps, L.data),
+                           PART_OVERHEAD_S + CAUSAL_MPC_EPISODE_S * scale) for seed in seeds),
+                settings={"tier": tier, "episodes": s.episodes, "episode_steps": steps, "mpc": mpc.as_dict()},
+                verify=mpc_problems,
+                command=f"python -m agents.references.causal_mpc_runs --tier {tier} --until HH:MM"),
+        Product(f"feedback:{tier}", f"the feedback rule tuned on {tier} validation episodes", (fb_out,),
+                (Part("fit", B.feedback_fit, (fb_out, tier, fb_n, b["feedback_rounds"], steps),
+                      PART_OVERHEAD_S + FEEDBACK_FIT_S * fb_n / 50 * b["feedback_rounds"] / 2 * scale),),
+                settings={"tier": tier, "episodes": fb_n, "rounds": b["feedback_rounds"], "episode_steps": steps,
+                          "candidates": {k: list(v) for k, v in feedback_fit.CANDIDATES.items()}},
+                verify=functools.partial(feedback_fit.fit_problems, tier, fb_out, fb_n, b["feedback_rounds"], steps),
+                command=f"python -m agents.references.feedback_fit --tier {tier}")]
+    for kind in b["kinds"]:
+        path = speed_schedule_fit.schedule_path(tier, kind, L.data)
+        out.append(Product(
+            f"speed_schedule:{tier}:{kind}", f"the {kind} speed schedule fitted on {tier} training episodes", (path,),
+            (Part("fit", B.speed_schedule_fit, (path, tier, kind, sch_n, b["schedule_rounds"], steps, store),
+                  PART_OVERHEAD_S + SCHEDULE_FIT_S * sch_n / 50 * b["schedule_rounds"] / 2 * scale),),
+            upstream=(f"validation:{tier}",),
+            settings={"tier": tier, "kind": kind, "episodes": sch_n, "rounds": b["schedule_rounds"],
+                      "episode_steps": steps, "first_seed": P.SCHEDULE_FIT_SEED,
+                      "grid_step_n": P.CONTEXTUAL_GRID_STEP_N, "start_rule": P.V2_VALIDATION_RULE},
+            verify=functools.partial(speed_schedule_fit.fit_problems, tier, kind, path, sch_n, b["schedule_rounds"],
+                                     steps, store),
+            command=f"python -m agents.references.speed_schedule_fit --tier {tier} --kind {kind}"))
+    return out
 
 
 def products(prof: Profile, layout: Layout) -> list[Product]:
     """Every product of ``prof`` written under ``layout``, upstream first."""
     out = _maps(prof, layout)
     for tier in prof.tiers:
-        out += _references(prof, layout, tier)
+        out += _references(prof, layout, tier) + (_baselines(prof, layout, tier) if prof.baselines else [])
     out += docs_products(prof, layout)
     return out
 

@@ -6,12 +6,14 @@
     python -m agents.regenerate --processes 8            # ... on 8 worker processes (or --ray ADDRESS)
     python -m agents.regenerate --only 'planner:*'       # some products (and what they need that is stale)
     python -m agents.regenerate --list                   # the product table (docs/regeneration.md)
+    python -m agents.regenerate --adopt 'planner:*'      # record files in place fresh, where their records prove it
     python -m agents.regenerate --profile tiny --root /tmp/regen   # every product, tiny, in a scratch tree
 """
 
 from __future__ import annotations
 
 import argparse
+import fnmatch
 import os
 from datetime import datetime
 
@@ -117,6 +119,10 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--status", action="store_true", help="each product fresh/stale/partial/missing and why; builds nothing")
     g.add_argument("--dry-run", action="store_true", help="what would be built, its cost and a rough wall time")
     g.add_argument("--list", action="store_true", help="the product table (markdown)")
+    g.add_argument("--adopt", nargs="+", metavar="NAME",
+                   help="record these products (names or patterns) fresh under today's inputs without building "
+                        "them, where their check of the files in place finds nothing that differs (a "
+                        "definition change that cannot change their files); upstream first")
     ap.add_argument("--only", nargs="+", metavar="NAME", help="these products (names or patterns like 'planner:*') "
                                                                "and what they need that is not fresh")
     ap.add_argument("--force", nargs="+", default=[], metavar="NAME",
@@ -146,7 +152,7 @@ def main(argv: list[str] | None = None) -> int:
         ap.error("--processes must be >= 1")
     try:
         root = Path(a.root) if a.root else require_checkout("the stored data", "--root")
-        sel, layout, _ = plan(profile, root, a.only, a.force)
+        sel, layout, manifest = plan(profile, root, a.only, a.force)
     except ValueError as err:
         raise SystemExit(f"regenerate: {err}") from None
     if a.list:
@@ -154,6 +160,17 @@ def main(argv: list[str] | None = None) -> int:
         return 0
     if a.status:
         print_status(sel, layout)
+        return 0
+    if a.adopt:
+        from agents.regenerate.adopt import AdoptError, adopt
+        try:
+            names = [n for n in sel.products if any(fnmatch.fnmatchcase(n, pat) for pat in a.adopt)]
+            unknown = [pat for pat in a.adopt if not any(fnmatch.fnmatchcase(n, pat) for n in sel.products)]
+            if unknown:
+                raise AdoptError(f"no product named {unknown[0]!r}")
+            adopt(sel, names, layout, manifest)
+        except AdoptError as err:
+            raise SystemExit(f"regenerate --adopt: {err}") from None
         return 0
     if a.dry_run:
         print_status(sel, layout)

@@ -41,6 +41,9 @@ def _board(prof: Profile, L) -> list[Product]:
                        env_cost(prof.board_for(t).episodes, s.episode_steps, 3 + len(prof.model_dirs))
                        + rows * s.bootstrap_reps * BOOTSTRAP_REP_S, commit) for t in prof.tiers)
     up = ("oracle_table",) + tuple(f"{k}:{t}" for t in prof.tiers for k in ("validation", "contextual", "references"))
+    if prof.baselines:
+        up += tuple(f"{k}:{t}" for t in prof.tiers for k in ("causal_mpc", "feedback"))
+        up += tuple(f"speed_schedule:{t}:{k}" for t in prof.tiers for k in prof.baselines["kinds"])
     up += ("examples",) if _has_examples(prof) else ()
     board = Product("board", "the leaderboard: every learned run and reference on the test episodes of every tier",
                     (out, out.with_name("results_table.md")), parts, upstream=up,

@@ -98,6 +98,9 @@ class Product:
     digest: Callable[[], str | None] | None = None
     #: the hand-run command(s) it stands for
     command: str = ""
+    #: what differs between the files in place and what today's inputs build, as the files' own
+    #: records show (empty: nothing); a product with one can be adopted (agents.regenerate.adopt)
+    verify: Callable[[], list[str]] | None = None
 
     @property
     def cost_s(self) -> float:

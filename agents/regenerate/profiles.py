@@ -19,16 +19,23 @@ from bearing_gym.task import TIER_NAMES
 
 from agents import protocol as P
 from agents.leaderboard.settings import FULL as FULL_BOARD, SMOKE, Settings
-from agents.paths import TRAINED_DIR
+from agents.paths import PACKAGE_DIR, TRAINED_DIR, TRAINED_V2_DIR
 from agents.policies.contextual import MIN_FIT_EPISODES
 
-__all__ = ["Profile", "FULL", "TINY", "PROFILES", "trained_runs"]
+__all__ = ["Profile", "FULL", "FULL_BASELINES", "TINY", "PROFILES", "trained_runs"]
 
 
-def trained_runs() -> tuple[str, ...]:
-    """The protocol's trained runs shipped in the checkout (``agents/trained/<algo>/seed_<s>``)."""
-    return tuple(sorted(p.relative_to(TRAINED_DIR.parent.parent).as_posix() for p in TRAINED_DIR.glob("*/seed_*")
-                        if p.is_dir()))
+def trained_runs(version: int | None = None) -> tuple[str, ...]:
+    """The protocol's trained runs shipped in the checkout: protocol 1's ``agents/trained/<algo>/seed_<s>``;
+    protocol 2's ``agents/trained_v2/<algo>/seed_<s>`` and each run's early row
+    (``.../by_<V2_EARLY_ROW_STEPS>``, the best checkpoint up to that step). ``version``: the
+    protocol (default: agents.protocol.PROTOCOL_VERSION)."""
+    version = P.PROTOCOL_VERSION if version is None else version
+    root, pattern = (TRAINED_DIR, "*/seed_*") if version < 2 else (TRAINED_V2_DIR, "*/seed_*")
+    runs = [p for p in root.glob(pattern) if p.is_dir()]
+    if version >= 2:
+        runs += [p / f"by_{P.V2_EARLY_ROW_STEPS}" for p in runs if (p / f"by_{P.V2_EARLY_ROW_STEPS}").is_dir()]
+    return tuple(sorted(p.relative_to(PACKAGE_DIR.parent).as_posix() for p in runs))
 
 
 @dataclass(frozen=True)
@@ -56,6 +63,12 @@ class Profile:
     #: the open board's worked examples (examples/*.py) scored and shown beside the board's rows
     #: (they read the checkout's stored references, so the full profile only)
     examples: bool = False
+    #: the industry and model-based baselines' products (protocol v2; agents.regenerate.catalogue):
+    #: feedback_episodes/_rounds (validation seeds), schedule_episodes/_rounds (training seeds), the
+    #: speed schedules' kinds. None: not products of this profile (the full profile's join the
+    #: catalogue once every tier's are computed: FULL_BASELINES; until then their hand-run commands
+    #: make them, resumable)
+    baselines: dict[str, Any] | None = None
 
     def board_for(self, tier: str) -> Settings:
         return self.board.for_tier(tier)
@@ -66,6 +79,12 @@ class Profile:
     def contextual_for(self, tier: str) -> int:
         return P.episodes_for_tier(tier, self.contextual_episodes, minimum=MIN_FIT_EPISODES)
 
+
+#: protocol v2's baseline fits at the protocol's sizes
+FULL_BASELINES: dict[str, Any] = {
+    "feedback_episodes": P.V2_FEEDBACK_TUNE_EPISODES, "feedback_rounds": P.V2_FEEDBACK_TUNE_ROUNDS,
+    "schedule_episodes": P.SCHEDULE_FIT_EPISODES, "schedule_rounds": P.SCHEDULE_FIT_ROUNDS,
+    "kinds": ("2-level", "3-level", "table")}
 
 FULL = Profile(
     name="full", tiers=TIER_NAMES, board=FULL_BOARD,
@@ -97,6 +116,8 @@ TINY = Profile(
     tier_gap={"tier": "transient", "seed": P.TIER_DESIGN.start, "episodes": 2, "grid_step": _COARSE, "horizon": 1,
               "replan_every": 150},
     traces={"episodes": 2, "grid_step_n": _COARSE},
-    learning_curves=None, bench_accuracy=False, reproduction=False)
+    learning_curves=None, bench_accuracy=False, reproduction=False,
+    baselines={"feedback_episodes": 2, "feedback_rounds": 1, "schedule_episodes": 2, "schedule_rounds": 1,
+               "kinds": ("2-level",)})
 
 PROFILES = {p.name: p for p in (FULL, TINY)}

@@ -52,7 +52,7 @@ from pathlib import Path
 from bearing_gym.task import DEFAULT_TIER
 
 from agents import protocol as P
-from agents.paths import PRETRAINED_DIR, TRAINED_DIR, checkout_root, require_checkout, runs_dir, start_bank_path
+from agents.paths import PRETRAINED_DIR, TRAINED_DIR, TRAINED_V2_DIR, checkout_root, require_checkout, runs_dir, start_bank_path
 
 
 __all__ = ["RUNS", "run_dir", "collected_dir", "is_done", "is_running", "best_checkpoint", "run_summary", "train_run", "collect", "ship", "main"]
@@ -68,7 +68,7 @@ RUNS = [(a, k, s) for a in sorted(P.ALGORITHMS, key=lambda a: a != P.HEADLINE_AL
 
 # -- protocol v2 (agents.protocol V2_*): its own work and collection directories ------------------
 WORK_DIR_V2 = runs_dir("protocol_v2")
-TRAINED_DIR_V2 = TRAINED_DIR.with_name("trained_v2")
+TRAINED_DIR_V2 = TRAINED_V2_DIR
 #: the early row's files (the best checkpoint up to V2_EARLY_ROW_STEPS) inside a run
 EARLY = f"by_{P.V2_EARLY_ROW_STEPS}"
 #: what a v2 run keeps in git: its portable exports (the selected checkpoint's and the early

@@ -130,6 +130,36 @@ def test_a_force_outlives_a_run_stopped_before_any_part_ends(built):
     assert sel.to_build == ["b", "d"] and sel.states["b"].state != FRESH
 
 
+def test_adopt_records_a_verified_product_fresh_without_building_it_and_refuses_otherwise(built):
+    """A definition change (b's settings gain a key) makes b and d stale though their files could
+    not change: --adopt runs b's check of its files and records b fresh, builds nothing, and d
+    (no check) is refused; a check that finds a difference, or an upstream not fresh, is refused."""
+    from agents.regenerate.adopt import AdoptError, adopt
+
+    def graph(problems: list[str]) -> list[Product]:
+        g = _graph(built)
+        g[1] = dataclasses.replace(g[1], settings={"n": 1, "rule": "new"}, verify=lambda: list(problems))
+        return g
+    layout, manifest = Layout(built), Manifest(Layout(built).manifest, "test")
+    sel = select(graph([]), layout, manifest, "kernel-1")
+    assert sel.to_build == ["b", "d"] and sel.states["b"].reasons == ['setting rule: null -> "new"']
+    with pytest.raises(AdoptError, match="d has no check of its files"):
+        adopt(sel, ["d"], layout, manifest, log=lambda line: None)
+    with pytest.raises(AdoptError, match="b: its files are not what today's inputs build: b.out differs"):
+        adopt(select(graph(["b.out differs"]), layout, manifest, "kernel-1"), ["b"], layout, manifest,
+              log=lambda line: None)
+    assert adopt(sel, ["b"], layout, manifest, log=lambda line: None) == ["b"]
+    assert manifest.entry("b")["built"].startswith("adopted")
+    sel, out = _run(built, graph([]))
+    assert sel.states["b"].state == FRESH and sel.to_build == ["d"] and _ran(built) == ["d"]
+    # an upstream that is not fresh: adopt it (or build it) first
+    g = graph([])
+    g[0] = dataclasses.replace(g[0], settings={"m": 1})
+    g[1] = dataclasses.replace(g[1], settings={"n": 1, "rule": "newer"})
+    with pytest.raises(AdoptError, match="b: its upstream a is not fresh"):
+        adopt(select(g, layout, manifest, "kernel-1"), ["b"], layout, manifest, log=lambda line: None)
+
+
 def test_only_builds_a_product_and_what_it_needs(tmp_path):
     sel, out = _run(tmp_path, _graph(tmp_path), only=["b"])
     assert sel.to_build == ["a", "b"] and sorted(out.built) == ["a", "b"]
@@ -284,3 +314,20 @@ def test_tiny_on_ray(tmp_path):
     out = regenerate(TINY, tmp_path, only=["oracle_table", "start_bank"], processes=2, ray="local",
                      log=lambda line: None)
     assert sorted(out.built) == ["oracle_table", "reward_map", "start_bank"] and not out.failed
+
+
+def test_protocol_2s_board_reads_the_v2_runs_and_their_early_rows(tmp_path, monkeypatch):
+    """trained_runs(2): every agents/trained_v2/<algo>/seed_<s> and, where collected, its
+    by_<V2_EARLY_ROW_STEPS> early row; protocol 1 keeps agents/trained/."""
+    from agents import protocol as P
+    from agents.regenerate import profiles
+    root = tmp_path / "agents"
+    early = f"by_{P.V2_EARLY_ROW_STEPS}"
+    for d in (f"trained_v2/sac/seed_0/{early}", "trained_v2/sac/seed_1000", "trained/ppo/seed_0"):
+        (root / d).mkdir(parents=True)
+    monkeypatch.setattr(profiles, "PACKAGE_DIR", root)
+    monkeypatch.setattr(profiles, "TRAINED_DIR", root / "trained")
+    monkeypatch.setattr(profiles, "TRAINED_V2_DIR", root / "trained_v2")
+    assert profiles.trained_runs(2) == ("agents/trained_v2/sac/seed_0", f"agents/trained_v2/sac/seed_0/{early}",
+                                        "agents/trained_v2/sac/seed_1000")
+    assert profiles.trained_runs(1) == ("agents/trained/ppo/seed_0",)

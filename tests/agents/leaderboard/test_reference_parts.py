@@ -35,10 +35,13 @@ def test_parts_and_plans_merge_to_the_one_go_references_and_a_missing_or_foreign
                                  (-3.0, -1.0, -2.0), SMOKE.episode_steps), store)
     plan = RP.plan(SMOKE)
     assert plan == [("sweep", P.TEST.start, 1), ("sweep", P.TEST.start + 1, 1)]
-    RP.compute_part(tier, *plan[0], s=SMOKE, store=store, data_dir=tmp_path)
+    RP.compute_part(tier, *plan[0], s=SMOKE, data_dir=tmp_path)
     with pytest.raises(FileNotFoundError, match="1 parts of tier transient are missing"):
         RP.merge(tier, SMOKE, tmp_path, store)
-    RP.compute_part(tier, *plan[1], s=SMOKE, store=store, data_dir=tmp_path)
+    RP.compute_part(tier, *plan[1], s=SMOKE, data_dir=tmp_path)
+    with pytest.raises(ValueError, match="validation constant's row.*no validation row.*--validation-row"):
+        RP.merge(tier, SMOKE, tmp_path, store)
+    RP.compute_validation_row(tier, SMOKE, store, tmp_path)
     with pytest.raises(ValueError, match="2 test episode.*not planned.*planner_runs --tier transient"):
         RP.merge(tier, SMOKE, tmp_path, store)                      # the planner's episodes are missing
     seeds = P.held_out_seeds(SMOKE.episodes)
@@ -49,7 +52,7 @@ def test_parts_and_plans_merge_to_the_one_go_references_and_a_missing_or_foreign
 
     choice = load_choice(tier, store)
     hindsight, sweep = hindsight_reference(tier, SMOKE.episodes, seeds.start, SMOKE.episode_steps,
-                                           SMOKE.hindsight_grid_step_n, extra_n=(choice.preload_n,))
+                                           SMOKE.hindsight_grid_step_n)       # the grid alone: it holds 1150 N
     constant = sweep_row(sweep, choice.preload_n)
     assert refs.seeds == tuple(seeds) and refs.validation_preload_n == choice.preload_n
     for got, want in ((refs.validation_constant, constant), (refs.hindsight, hindsight)):
@@ -67,13 +70,14 @@ def test_parts_and_plans_merge_to_the_one_go_references_and_a_missing_or_foreign
 
     part = tmp_path / "test_references_transient_parts" / f"sweep_{seeds.start}_1.json"
     good = json.loads(part.read_text())
-    # a part from before parts recorded the hindsight constants gets them back, the same ones
-    older = dict(good)
-    del older["hindsight_preload_n"]
-    part.write_text(json.dumps(older))
-    assert RP.add_hindsight_preloads(tier, SMOKE, tmp_path, store, candidates=1) == [part]
-    assert json.loads(part.read_text())["hindsight_preload_n"] == good["hindsight_preload_n"]
-    assert RP.add_hindsight_preloads(tier, SMOKE, tmp_path, store) == []      # nothing left to add
+    # the regeneration's adoption check: the planned episodes are what planning now would write ...
+    check = (tier, SMOKE.episodes, SMOKE.planner, SMOKE.episode_steps, SMOKE.hindsight_grid_step_n, tmp_path)
+    assert planner_runs.problems(*check) == []
+    other = json.loads(part.read_text())                # ... until the sweep holds another start
+    other["hindsight_preload_n"] = [2000.0 if good["hindsight_preload_n"][0] != 2000.0 else 300.0]
+    part.write_text(json.dumps(other))
+    assert [p.split(":")[0] for p in planner_runs.problems(*check)] == [f"seed {seeds.start}"]
+    part.write_text(json.dumps(good))
     for change, problem in ((lambda d: d.update(hindsight_grid_step_n=100.0), "hindsight_grid_step_n = 100.0"),
                             (lambda d: d["rows"]["hindsight"].update(returns=[]), "hindsight row has 0 episodes"),
                             (lambda d: d.update(first_seed=seeds.start + 1), "its file holds sweep from seed")):
@@ -93,6 +97,25 @@ def test_parts_and_plans_merge_to_the_one_go_references_and_a_missing_or_foreign
     # without the planner: the board's hindsight-only store
     RP.merge(tier, SMOKE, tmp_path, store, with_planner=False)
     assert load_references(tier, tmp_path).planner is None
+    # another validation constant in the store (a new rule): its row is stale, the sweep is not;
+    # one off the hindsight grid is refused (the hindsight would not bound it)
+    before = 1150.0
+    for preload_n, grid_n, means in ((2000.0, (300.0, 1150.0, 2000.0), (-3.0, -2.0, -1.0)),
+                                     (1175.0, (300.0, 1175.0, 2000.0), (-3.0, -1.0, -2.0))):
+        save_choice(ValidationChoice(tier, preload_n, (50_000, 50_001, 50_002), 25.0, grid_n, means,
+                                     SMOKE.episode_steps), store)
+        with pytest.raises(ValueError, match=f"preload_n = {before}, today's is {preload_n}"):
+            RP.merge(tier, SMOKE, tmp_path, store, with_planner=False)
+        RP.compute_validation_row(tier, SMOKE, store, tmp_path)
+        if preload_n == 2000.0:
+            RP.merge(tier, SMOKE, tmp_path, store, with_planner=False)
+            got = load_references(tier, tmp_path)
+            assert got.validation_preload_n == 2000.0 and result_to_json(got.hindsight) == result_to_json(hindsight)
+            assert result_to_json(got.validation_constant) == result_to_json(sweep_row(sweep, 2000.0))
+        else:
+            with pytest.raises(ValueError, match="1175 N is not on the hindsight grid"):
+                RP.merge(tier, SMOKE, tmp_path, store, with_planner=False)
+        before = preload_n
 
 
 def test_a_part_made_by_another_kernel_counts_as_missing(tmp_path):

@@ -50,3 +50,7 @@ def test_a_tuned_rule_is_stored_and_its_value_is_its_return(tmp_path, monkeypatc
     assert F.load_feedback("paper").start_n == rule.start_n
     with pytest.raises(LookupError, match="feedback_fit --tier field"):
         F.load_feedback("field")
+    # the regeneration's adoption check: nothing differs from a fit made now; another round count does
+    assert F.fit_problems("paper", out, 1, 1, 6) == []
+    assert [p.split(":")[0] for p in F.fit_problems("paper", out, 1, 2, 6)] == ["rounds"]
+    assert F.fit_problems("paper", tmp_path / "none.json", 1, 1, 6)[0].startswith("no fit")

@@ -1,6 +1,8 @@
 """The speed schedules' fit: coordinate ascent finds the optimum of a separable objective, keeps
 the thresholds increasing, fits on training seeds only, and runs on the simulator."""
 
+import json
+
 import numpy as np
 import pytest
 
@@ -42,3 +44,23 @@ def test_a_tiny_fit_on_the_simulator():
     returns = [h["mean_return"] for h in meta["history"]]
     assert returns == sorted(returns) and all(np.isfinite(returns))
     assert set(s.levels_n) <= {300.0, 1150.0, 2000.0} and s.thresholds_rpm[0] in F.THRESHOLD_CANDIDATES_RPM
+
+
+def test_a_written_fit_records_its_start_and_the_adoption_check_sees_another(tmp_path):
+    """write_fit starts from the store's validation constant by protocol v2's rule (on the fit's
+    grid); fit_problems finds nothing for the same inputs and names the start for another store."""
+    from agents.references.store import ValidationChoice, save_choice
+
+    def store(path, best):
+        means = tuple(-abs(p - best) for p in (300.0, 1150.0, 2000.0))
+        save_choice(ValidationChoice("transient", best, (50_000, 50_001), 850.0, (300.0, 1150.0, 2000.0), means, 3,
+                                     episode_returns=tuple((m, m) for m in means), rule="best_mean"), path)
+        return path
+    first = store(tmp_path / "a.json", 1150.0)
+    out = F.write_fit("transient", "2-level", tmp_path / "s.json", episodes=2, rounds=1, episode_steps=3, store=first,
+                      progress=None)
+    d = json.loads(out.read_text())
+    assert d["history"][0]["setting"]["levels_n"] == [1100.0, 1100.0]       # 1150 N on the 100 N grid
+    assert F.fit_problems("transient", "2-level", out, 2, 1, 3, first) == []
+    other = store(tmp_path / "b.json", 2000.0)
+    assert [p.split(":")[0] for p in F.fit_problems("transient", "2-level", out, 2, 1, 3, other)] == ["start"]

@@ -137,3 +137,23 @@ def test_one_validation_episode_is_the_protocol_only_on_a_deterministic_tier():
     assert r0.shape == r1.shape == (3,) and len(set(r0)) == 1 and np.all(r1 >= r0)
     with pytest.raises(ValueError, match="not one of the stored validation episodes"):
         one["transient"].validation_references(seeds)
+
+
+def test_the_adoption_check_names_what_differs_from_today_and_passes_a_choice_made_today(tmp_path, monkeypatch):
+    """validation_problems (the regeneration's check before adopting a stored choice): nothing for
+    an entry made by this kernel on the given episodes and grid under the protocol's rule; the
+    differing field by name otherwise."""
+    from bearing_gym.envs.provenance import kernel_hash
+    from agents import protocol as P
+    from agents.references.store import validation_problems
+    monkeypatch.setattr(P, "VALIDATION_RULE", "best_mean")
+    store = tmp_path / "c.json"
+    grid = preload_grid(850.0)
+    means = tuple(-abs(p - 1150.0) for p in grid)
+    save_choice(ValidationChoice("transient", 1150.0, (50_000, 50_001), 850.0, grid, means, 2,
+                                 kernel_hash=kernel_hash()), store)
+    assert validation_problems("transient", store, 2, 2, 850.0) == []
+    assert [p.split(":")[0] for p in validation_problems("transient", store, 3, 4, 850.0)] == ["seeds", "episode_steps"]
+    monkeypatch.setattr(P, "VALIDATION_RULE", "one_se_largest")
+    assert [p.split(":")[0] for p in validation_problems("transient", store, 2, 2, 850.0)] == ["rule"]
+    assert validation_problems("stationary", store, 2, 2, 850.0)[0].startswith("no validation-chosen constant")
