@@ -80,10 +80,13 @@ def missing(tier: str, s: Settings | None = None, data_dir: Path = DATA_DIR) -> 
     here = kernel_hash()
 
     def fresh(path: Path) -> bool:
+        """Made by this kernel, and not a part of the definition before the sweep was decoupled from
+        the validation constant (its grid held that constant too)."""
         try:
-            return json.loads(path.read_text()).get("kernel_hash") == here
+            d = json.loads(path.read_text())
         except (OSError, ValueError):
             return False
+        return d.get("kernel_hash") == here and "validation_preload_n" not in d
     return [p for p in plan(_tier_settings(tier, s)) if not fresh(_path(tier, *p, data_dir))]
 
 
@@ -149,7 +152,8 @@ def validation_row_problems(tier: str, s: Settings | None = None, store: Path = 
     except (OSError, ValueError):
         return [f"no validation row in {path}"]
     choice = load_choice(tier, store)
-    want = {**_settings(tier, s), "first_seed": P.held_out_seeds(s.episodes)[0], "episodes": s.episodes,
+    head = {k: v for k, v in _settings(tier, s).items() if k != "hindsight_grid_step_n"}   # the row needs no grid
+    want = {**head, "first_seed": P.held_out_seeds(s.episodes)[0], "episodes": s.episodes,
             "preload_n": choice.preload_n, "rule": choice.rule}
     return [f"{path.name} has {k} = {d.get(k)!r}, today's is {v!r}" for k, v in want.items() if d.get(k) != v]
 

@@ -70,11 +70,13 @@ def main(argv: list[str] | None = None) -> int:
     b.add_argument("--ray", nargs="?", const="auto", metavar="ADDRESS", help="record the parts on a Ray cluster")
     b.add_argument("--record", action="store_true",
                    help="write this build's checksum into agents/data/offline_datasets.json (a new or changed recipe)")
-    b.add_argument("--datasets-path", help="Minari's datasets directory (default: $MINARI_DATASETS_PATH or ~/.minari/datasets)")
     v = sub.add_parser("verify", help="check a local Minari dataset against its committed checksum")
     v.add_argument("names", nargs="+", metavar="TIER/NAME")
-    for p in (st, pl, b):
+    for p in (st, b):
         p.add_argument("--work-dir", help="where the parts are recorded (default: runs/offline)")
+    for p in (b, v):
+        p.add_argument("--datasets-path", help="Minari's datasets directory (default: $MINARI_DATASETS_PATH or "
+                                               "~/.minari/datasets)")
     a = ap.parse_args(argv)
     from agents.offline import build as B
     work_dir = Path(a.work_dir) if getattr(a, "work_dir", None) else B.WORK_DIR
@@ -95,6 +97,9 @@ def main(argv: list[str] | None = None) -> int:
                 B.build(name, work_dir, PLANS_DIR, Path(a.datasets_path) if a.datasets_path else None,
                         _executor(a), a.processes, a.record)
         elif a.cmd == "verify":
+            if a.datasets_path:
+                import os
+                os.environ["MINARI_DATASETS_PATH"] = a.datasets_path
             for name in a.names:
                 print(f"{recipe(name).dataset_id}: checksum {B.verify(name)[:16]} equals the committed one")
     except (KeyError, FileNotFoundError, ValueError) as err:
@@ -118,18 +123,13 @@ def _plan(a) -> int:
     else:                                   # each process plans every processes-th missing episode
         from bearing_gym.analysis.sweeps import run_tasks
         todo = plans_missing(r, seeds, PLANS_DIR)
+        from agents.offline.collect import plan_chunk
         chunks = [(r.dataset_id, todo[k::a.processes], str(PLANS_DIR), a.until) for k in range(a.processes)]
-        run_tasks(_plan_chunk, [c for c in chunks if c[1]], max_workers=a.processes, desc="expert plans")
+        run_tasks(plan_chunk, [c for c in chunks if c[1]], max_workers=a.processes, desc="expert plans")
     left = plans_missing(r, seeds, PLANS_DIR)
     print(f"{r.dataset_id}: {r.episodes - len(left)} of {r.episodes} episodes planned in {PLANS_DIR}"
           + ("" if left else f"; build it: `python -m agents.offline build {r.tier}/{r.name}`"))
     return 0
-
-
-def _plan_chunk(name: str, seeds: list[int], plans_dir: str, until: str | None) -> int:
-    from agents.clock import deadline
-    from agents.offline.collect import plan_expert
-    return len(plan_expert(recipe(name), seeds, Path(plans_dir), deadline(until) if until else None))
 
 
 if __name__ == "__main__":

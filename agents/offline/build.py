@@ -25,7 +25,7 @@ from typing import Any, Callable
 
 import numpy as np
 
-from agents.offline.collect import INFO_KEYS, collect_part, part_path, plans_missing, read_part
+from agents.offline.collect import INFO_KEYS, collect_part, part_path, plans_digest, plans_missing, read_part
 from agents.offline.recipes import PLANS_DIR, RECIPES, Recipe, recipe
 from agents.paths import DATA_DIR, runs_dir
 
@@ -41,21 +41,33 @@ class DatasetMismatch(ValueError):
     """A rebuilt dataset whose checksum is not the committed one."""
 
 
-def _fresh(path: Path, r: Recipe) -> bool:
+def _fresh(path: Path, r: Recipe, plans_dir: Path = PLANS_DIR) -> bool:
+    """A part recorded by this kernel for this recipe (the expert's: from the plan files there now)."""
     from bearing_gym.envs.provenance import kernel_hash
     try:
         meta, _ = read_part(path)
-    except (OSError, ValueError, KeyError):
+    except (OSError, ValueError):
         return False
-    return meta.get("recipe_sha") == r.digest() and meta.get("kernel_hash") == kernel_hash()
+    return (meta.get("recipe_sha") == r.digest() and meta.get("kernel_hash") == kernel_hash()
+            and meta.get("plans_sha") == plans_digest(r, range(meta["first_seed"], meta["first_seed"] + meta["episodes"]),
+                                                      plans_dir))
 
 
-def parts_left(r: Recipe, work_dir: Path = WORK_DIR) -> list[tuple[int, int]]:
-    """The parts of ``r`` not yet recorded by this kernel for this recipe (a mixed dataset: its
-    sources' parts that are missing)."""
+def _needed(r: Recipe, n: int | None = None) -> list[tuple[int, int]]:
+    """The parts of ``r`` that hold its first ``n`` episodes (all: None)."""
+    return [p for p in r.parts() if n is None or p[0] < r.first_seed + n]
+
+
+def parts_left(r: Recipe, work_dir: Path = WORK_DIR, plans_dir: Path = PLANS_DIR) -> list[tuple[int, int]]:
+    """The parts of ``r`` not yet recorded by this kernel for this recipe (a mixed dataset: the
+    parts of its sources that hold the episodes it takes and are missing)."""
     if r.kind == "mixed":
-        return [p for name, _ in r.sources for p in parts_left(recipe(f"{r.tier}/{name}"), work_dir)]
-    return [p for p in r.parts() if not _fresh(part_path(r, *p, work_dir), r)]
+        return [p for name, n in r.sources for p in _left(recipe(f"{r.tier}/{name}"), work_dir, plans_dir, n)]
+    return _left(r, work_dir, plans_dir)
+
+
+def _left(r: Recipe, work_dir: Path, plans_dir: Path, n: int | None = None) -> list[tuple[int, int]]:
+    return [p for p in _needed(r, n) if not _fresh(part_path(r, *p, work_dir), r, plans_dir)]
 
 
 def collect(r: Recipe, work_dir: Path = WORK_DIR, plans_dir: Path = PLANS_DIR, executor=None,
@@ -64,25 +76,27 @@ def collect(r: Recipe, work_dir: Path = WORK_DIR, plans_dir: Path = PLANS_DIR, e
     pool of ``processes`` spawned processes; agents' Ray executor spreads them over a cluster)."""
     from bearing_gym.analysis.sweeps import run_tasks
     todo = []
-    for src in ([recipe(f"{r.tier}/{n}") for n, _ in r.sources] if r.kind == "mixed" else [r]):
+    for src, n in ([(recipe(f"{r.tier}/{name}"), k) for name, k in r.sources] if r.kind == "mixed" else [(r, None)]):
         if src.kind == "planner":
-            gone = plans_missing(src, list(range(src.first_seed, src.first_seed + src.episodes)), plans_dir)
+            last = src.first_seed + (src.episodes if n is None else n)
+            gone = plans_missing(src, list(range(src.first_seed, last)), plans_dir)
             if gone:
                 raise FileNotFoundError(f"{src.dataset_id}: {len(gone)} of {src.episodes} episodes have no plan yet "
                                         f"(first seed {gone[0]}); plan them first: `python -m agents.offline plan "
                                         f"--until HH:MM` (about a minute of a core each)")
-        todo += [(src.dataset_id, first, n, str(work_dir), str(plans_dir)) for first, n in parts_left(src, work_dir)]
+        todo += [(src.dataset_id, first, k, str(work_dir), str(plans_dir)) for first, k in _left(src, work_dir, plans_dir, n)]
     if not todo:
         return []
     return run_tasks(collect_part, todo, executor=executor, max_workers=processes, progress=progress,
                      desc=f"{r.dataset_id}: parts")
 
 
-def _episodes_of_parts(r: Recipe, work_dir: Path, limit: int | None = None) -> list[dict[str, Any]]:
+def _episodes_of_parts(r: Recipe, work_dir: Path, limit: int | None = None,
+                       plans_dir: Path = PLANS_DIR) -> list[dict[str, Any]]:
     out: list[dict[str, Any]] = []
-    for first, n in r.parts():
+    for first, n in _needed(r, limit):
         path = part_path(r, first, n, work_dir)
-        if not _fresh(path, r):
+        if not _fresh(path, r, plans_dir):
             raise FileNotFoundError(f"{r.dataset_id}: part {path.name} is missing or stale; record it: "
                                     f"`python -m agents.offline build {r.tier}/{r.name}`")
         _, a = read_part(path)
@@ -104,14 +118,14 @@ def _episodes_of_parts(r: Recipe, work_dir: Path, limit: int | None = None) -> l
     return out
 
 
-def episodes_of(r: Recipe, work_dir: Path = WORK_DIR) -> list[dict[str, Any]]:
+def episodes_of(r: Recipe, work_dir: Path = WORK_DIR, plans_dir: Path = PLANS_DIR) -> list[dict[str, Any]]:
     """Every episode of ``r`` from its recorded parts, in order (a mixed dataset: its sources' first
     episodes, source after source)."""
     if r.kind != "mixed":
-        return _episodes_of_parts(r, work_dir)
+        return _episodes_of_parts(r, work_dir, plans_dir=plans_dir)
     out = []
     for name, n in r.sources:
-        got = _episodes_of_parts(recipe(f"{r.tier}/{name}"), work_dir, n)
+        got = _episodes_of_parts(recipe(f"{r.tier}/{name}"), work_dir, n, plans_dir)
         if len(got) < n:
             raise ValueError(f"{r.dataset_id}: source {name} has {len(got)} episodes, the recipe takes {n}")
         out += got
@@ -148,9 +162,8 @@ def write_minari(r: Recipe, episodes: list[dict[str, Any]], datasets_path: Path 
 
 def _update(h, x: np.ndarray) -> None:
     x = np.ascontiguousarray(x)
-    if x.dtype.byteorder == ">":
-        x = x.byteswap().view(x.dtype.newbyteorder("<"))
-    h.update(f"{x.dtype.str.replace('>', '<')}{x.shape}".encode())
+    x = x.astype(x.dtype.newbyteorder("<"), copy=False)     # little-endian bytes on every host
+    h.update(f"{x.dtype.str}{x.shape}".encode())
     h.update(x.tobytes())
 
 
@@ -173,6 +186,12 @@ def load_catalogue(path: Path = CATALOGUE) -> dict[str, Any]:
     return json.loads(Path(path).read_text())
 
 
+def _libraries() -> dict[str, str]:
+    """The versions of what writes and reads the data (a checksum that moves with one names it)."""
+    from importlib.metadata import version
+    return {name: version(name) for name in ("minari", "h5py", "gymnasium", "numpy")}
+
+
 def _cost_s(r: Recipe, work_dir: Path) -> float:
     if r.kind == "mixed":
         return 0.0
@@ -190,12 +209,12 @@ def build(name: str, work_dir: Path = WORK_DIR, plans_dir: Path = PLANS_DIR, dat
     r = recipe(name)
     t0 = time.time()
     collect(r, work_dir, plans_dir, executor, processes)
-    ds = write_minari(r, episodes_of(r, work_dir), datasets_path)
+    ds = write_minari(r, episodes_of(r, work_dir, plans_dir), datasets_path)
     ds = minari.load_dataset(r.dataset_id)
     entry = {"recipe": r.as_json(), "recipe_sha": r.digest(), "kernel_hash": kernel_hash(), "checksum": checksum(ds),
              "episodes": int(ds.total_episodes), "steps": int(ds.total_steps),
              "bytes": int(sum(f.stat().st_size for f in Path(ds.spec.data_path).rglob("*") if f.is_file())),
-             "parts_core_s": round(_cost_s(r, work_dir), 1)}
+             "parts_core_s": round(_cost_s(r, work_dir), 1), "libraries": _libraries()}
     cat = load_catalogue(catalogue)
     old = cat["datasets"].get(r.dataset_id)
     if record:
@@ -219,8 +238,11 @@ def _compare(r: Recipe, old: dict[str, Any], new: dict[str, Any]) -> None:
                      ("checksum", "the same recipe on the same kernel gave other data: a bug, or a part file edited "
                                   "by hand (delete runs/offline and build again)")):
         if old.get(key) != new.get(key):
+            libs = [f"{k} {old.get('libraries', {}).get(k)} -> {v}" for k, v in new.get("libraries", {}).items()
+                    if old.get("libraries", {}).get(k) not in (None, v)]
             raise DatasetMismatch(f"{r.dataset_id}: {key} {str(new.get(key))[:16]} is not the committed "
-                                  f"{str(old.get(key))[:16]}: {why}")
+                                  f"{str(old.get(key))[:16]}: {why}"
+                                  + (f" (the libraries differ too: {', '.join(libs)})" if libs else ""))
 
 
 def verify(name: str, catalogue: Path = CATALOGUE) -> str:

@@ -22,7 +22,8 @@ import numpy as np
 
 from agents.offline.recipes import PLANS_DIR, Recipe, pretrained_dir, recipe
 
-__all__ = ["INFO_KEYS", "collect_part", "part_path", "read_part", "episode_policy", "plans_missing", "plan_expert"]
+__all__ = ["INFO_KEYS", "collect_part", "part_path", "read_part", "episode_policy", "plans_missing", "plan_expert",
+           "plan_chunk", "plans_digest"]
 
 #: the info keys recorded every step (the reset's keys; the env's docstring describes them)
 INFO_KEYS = ("axial_stiffness_n_per_m", "cost", "friction_torque_n_m", "l10_life_h", "life_used_per_s",
@@ -85,6 +86,26 @@ def plan_expert(r: Recipe, seeds: list[int], plans_dir: Path = PLANS_DIR, deadli
     from bearing_gym.task import EPISODE_STEPS
     todo = plans_missing(r, seeds, plans_dir)
     return planner_runs.run(r.tier, todo, _planner_settings(r), EPISODE_STEPS, plans_dir, deadline) if todo else []
+
+
+def plan_chunk(name: str, seeds: list[int], plans_dir: str, until: str | None) -> int:
+    """:func:`plan_expert` on ``seeds`` in a worker process (module level: picklable); returns the
+    episodes planned."""
+    from agents.clock import deadline
+    return len(plan_expert(recipe(name), seeds, Path(plans_dir), deadline(until) if until else None))
+
+
+def plans_digest(r: Recipe, seeds, plans_dir: Path = PLANS_DIR) -> str | None:
+    """SHA-256 of the plan files of ``seeds`` (None for a recipe that is not the planner's): a part
+    replayed from other plans is another part."""
+    if r.kind != "planner":
+        return None
+    import hashlib
+    h = hashlib.sha256()
+    for seed in seeds:
+        path = _plan_file(r, seed, plans_dir)
+        h.update(path.read_bytes() if path.exists() else b"missing")
+    return h.hexdigest()
 
 
 def episode_policy(r: Recipe, seed: int, plans_dir: Path = PLANS_DIR):
@@ -160,7 +181,7 @@ def collect_part(name: str, first: int, n: int, work_dir: str, plans_dir: str | 
         dtype = bool if k == "quasi_periodic" else np.float64
         arrays[f"info/{k}"] = np.concatenate([np.asarray([i[k] for i in e["info"]], dtype=dtype) for e in eps])
     meta = {"dataset_id": r.dataset_id, "recipe_sha": r.digest(), "kernel_hash": kernel_hash(), "first_seed": first,
-            "episodes": n, "wall_s": time.time() - t0}
+            "episodes": n, "plans_sha": plans_digest(r, range(first, first + n), plans), "wall_s": time.time() - t0}
     path = part_path(r, first, n, Path(work_dir))
     path.parent.mkdir(parents=True, exist_ok=True)
     tmp = path.with_name(path.stem + ".tmp.npz")
@@ -178,7 +199,11 @@ def _sum_in_order(rewards: list[float]) -> float:
 
 
 def read_part(path: Path) -> tuple[dict[str, Any], dict[str, np.ndarray]]:
-    """(its metadata, its arrays) of a part file."""
-    with np.load(path, allow_pickle=False) as z:
-        meta = json.loads(str(z["meta"]))
-        return meta, {k: z[k] for k in z.files if k != "meta"}
+    """(its metadata, its arrays) of a part file (ValueError if it is not a whole part)."""
+    import zipfile
+    try:
+        with np.load(path, allow_pickle=False) as z:
+            meta = json.loads(str(z["meta"]))
+            return meta, {k: z[k] for k in z.files if k != "meta"}
+    except (zipfile.BadZipFile, EOFError, KeyError) as err:
+        raise ValueError(f"{path}: not a whole part ({type(err).__name__}): record it again") from None

@@ -2,10 +2,10 @@
 planner (d3rlpy's BC on the expert set), each with several seeds, exported to the portable
 inference and scored on the board through the scoring API like any policy.
 
-d3rlpy (the ``offline`` extra) pins gymnasium 1.0.0, older than the main install's, so it lives
-in a venv of its own (docs/offline.md); training there writes, per run, d3rlpy's model and a
-``portable_policy.npz`` (:func:`export_portable`: the actor's deterministic action in float64
-without torch, the same bits on every CPU), which the main install scores:
+d3rlpy (the ``offline`` extra, then ``pip install --no-deps d3rlpy==2.8.1``: docs/install.md says
+why) trains; each run writes d3rlpy's model and a ``portable_policy.npz``
+(:func:`export_portable`: the actor's deterministic action in float64 without torch, the same bits
+on every CPU), which the scoring API scores (it needs neither torch nor d3rlpy):
 
     python -m agents.offline.d3rlpy_baselines train --algo iql --dataset transient/expert --seed 0
     python -m agents.offline.d3rlpy_baselines score --algo iql --dataset transient/expert   # -> a submission
@@ -78,12 +78,20 @@ def export_portable(algo_obj) -> dict[str, np.ndarray]:
     arrays (kind ``sac``: ReLU layers, a linear head, tanh; actions in [-1, 1]). The standard
     observation scaler, (x - mean) / (std + eps), is folded into the first layer."""
     import torch.nn as nn
+    from d3rlpy.preprocessing import StandardObservationScaler
     pol = algo_obj.impl.policy
     head = getattr(pol, "_mu", None) or getattr(pol, "_fc", None)
     if head is None:
         raise ValueError(f"no portable path for a {type(pol).__name__} (IQL's NormalPolicy, BC's DeterministicPolicy)")
-    layers = list(pol._encoder._layers)
+    if algo_obj.action_scaler is not None:
+        raise ValueError("no portable path for an action scaler (the env's actions are already in [-1, 1])")
     sc = algo_obj.observation_scaler
+    if sc is not None and not isinstance(sc, StandardObservationScaler):
+        raise ValueError(f"no portable path for a {type(sc).__name__} (the standard observation scaler only)")
+    layers = [m for m in pol._encoder._layers if not isinstance(m, nn.Dropout)]   # dropout: the identity at inference
+    odd = [type(m).__name__ for m in layers if not isinstance(m, (nn.Linear, nn.ReLU))]
+    if odd:
+        raise ValueError(f"no portable path for an encoder with {odd[0]} layers (Linear and ReLU only)")
     mean = np.asarray(sc.mean, dtype=np.float64) if sc is not None else None
     scale = 1.0 / (np.asarray(sc.std, dtype=np.float64) + float(sc.eps)) if sc is not None else None
     arrays: dict[str, np.ndarray] = {}
@@ -141,7 +149,7 @@ def train(algo: str, dataset: str, seed: int, steps: int = BUDGET_STEPS, root: P
 def score_runs(algo: str, dataset: str, tier: str = "transient", root: Path = RUNS_DIR,
                out: Path | None = None, seeds: tuple[int, ...] = SEEDS, episodes: int | None = None) -> Any:
     """Score every seed's portable export of (algo, dataset) on ``tier``'s test episodes through
-    the scoring API; writes the submission (default: docs/submissions/offline_<algo>_<name>.json)."""
+    the scoring API; writes the submission (default: docs/submissions/offline_<algo>_<name>_<tier>.json)."""
     from agents.policies.portable import PortablePolicy
     from agents.submit import score
     name = f"{algo.upper()} offline on {dataset.split('/')[-1]}"

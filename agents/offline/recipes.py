@@ -88,8 +88,12 @@ class Recipe:
         return d
 
     def digest(self) -> str:
-        """SHA-256 (16 hex digits) of the recipe, with the digest of the medium policy's weights."""
+        """SHA-256 (16 hex digits) of what the data depend on: the recipe (not its description),
+        the medium policy's weights, a mixed dataset's sources' digests."""
         d = self.as_json()
+        d.pop("description")
+        if self.kind == "mixed":
+            d["sources_sha"] = [recipe(f"{self.tier}/{name}").digest() for name, _ in self.sources]
         if self.kind == "portable":
             d["policy_weights_sha256"] = _file_digest(pretrained_dir(self.policy["pretrained"]) / "portable_policy.npz")
         return hashlib.sha256(json.dumps(d, sort_keys=True).encode()).hexdigest()[:16]

@@ -28,7 +28,7 @@ from agents.paths import DATA_DIR
 from agents.policies.scripted import FeedbackRule
 from agents.references.ascent import coordinate_ascent, mean_returns
 
-__all__ = ["CANDIDATES", "fit_feedback", "feedback_path", "load_feedback", "write_fit", "fit_problems", "main"]
+__all__ = ["CANDIDATES", "fit_feedback", "feedback_path", "load_feedback", "write_fit", "fit_problems", "fixed_settings", "main"]
 
 #: each tuned setting's candidates, in the order the ascent sets them
 CANDIDATES: dict[str, tuple] = {
@@ -41,6 +41,13 @@ CANDIDATES: dict[str, tuple] = {
 
 def _setting(rule: FeedbackRule) -> dict[str, Any]:
     return {k: getattr(rule, k) for k in CANDIDATES}
+
+
+def fixed_settings() -> dict[str, Any]:
+    """What the ascent does not tune but the fitted rule runs with: the index thresholds (and
+    the start of the ascent, the rule's defaults, is its history's first record)."""
+    r = FeedbackRule()
+    return {"high": r.high, "low": r.low}
 
 
 def fit_feedback(tier: str, episodes: int = P.V2_FEEDBACK_TUNE_EPISODES, seed: int = P.VALIDATION.start,
@@ -61,7 +68,8 @@ def fit_feedback(tier: str, episodes: int = P.V2_FEEDBACK_TUNE_EPISODES, seed: i
         key=lambda r: tuple(_setting(r).values()), describe=_setting, progress=progress,
         label=f"feedback rule on {tier}")
     meta = {"tier": tier, "seeds": [seed, seed + episodes - 1], "episode_steps": episode_steps, "rounds": rounds,
-            "candidates": {k: list(v) for k, v in CANDIDATES.items()}, "mean_return": best, "history": history}
+            "candidates": {k: list(v) for k, v in CANDIDATES.items()}, "fixed": fixed_settings(), "mean_return": best,
+            "history": history}
     return rule, meta
 
 
@@ -98,7 +106,8 @@ def write_fit(tier: str, out: Path | None = None, episodes: int | None = None,
 
 def fit_problems(tier: str, path: Path, episodes: int, rounds: int, episode_steps: int) -> list[str]:
     """What keeps the stored fit at ``path`` from being what fitting now would write (empty:
-    nothing): absent, another kernel, other episodes, rounds or candidates."""
+    nothing): absent, another kernel, other episodes, rounds, candidates or fixed thresholds, or
+    another start (its history's first record: the rule's defaults)."""
     from bearing_gym.envs.provenance import kernel_hash
     try:
         d = json.loads(Path(path).read_text())
@@ -106,8 +115,12 @@ def fit_problems(tier: str, path: Path, episodes: int, rounds: int, episode_step
         return [f"no fit in {path}"]
     want = {"kernel_hash": kernel_hash(), "tier": tier, "seeds": [P.VALIDATION.start, P.VALIDATION.start + episodes - 1],
             "episode_steps": episode_steps, "rounds": rounds,
-            "candidates": {k: list(v) for k, v in CANDIDATES.items()}}
-    return [f"{k}: stored {str(d.get(k))[:40]}, today's {str(v)[:40]}" for k, v in want.items() if d.get(k) != v]
+            "candidates": {k: list(v) for k, v in CANDIDATES.items()}, "fixed": fixed_settings()}
+    out = [f"{k}: stored {str(d.get(k))[:40]}, today's {str(v)[:40]}" for k, v in want.items() if d.get(k) != v]
+    start = _setting(FeedbackRule())
+    if (d.get("history") or [{}])[0].get("setting") != start:
+        out.append(f"start: stored {str((d.get('history') or [{}])[0].get('setting'))[:60]}, today's {start}")
+    return out
 
 
 def main(argv: list[str] | None = None) -> None:

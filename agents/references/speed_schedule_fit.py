@@ -31,7 +31,7 @@ from agents.policies.speed_schedule import SpeedSchedule
 from agents.references.ascent import coordinate_ascent, mean_returns
 
 __all__ = ["KINDS", "THRESHOLD_CANDIDATES_RPM", "TABLE_KNOTS_RPM", "initial", "fit_schedule", "schedule_path",
-           "write_fit", "fit_problems", "main"]
+           "write_fit", "fit_problems", "candidates", "main"]
 
 KINDS = ("2-level", "3-level", "table")
 #: where a switch may sit (rpm): the tiers' speeds are 10,000-25,000 rpm
@@ -90,9 +90,15 @@ def fit_schedule(tier: str, kind: str, episodes: int = P.SCHEDULE_FIT_EPISODES, 
         key=lambda sch: json.dumps(sch.to_json(), sort_keys=True), describe=lambda sch: sch.to_json(),
         progress=progress, label=f"speed schedule {kind} on {tier}")
     meta = {"tier": tier, "kind": kind, "seeds": [seed, seed + episodes - 1], "episode_steps": episode_steps,
-            "grid_step_n": grid_step_n, "rounds": rounds, "mean_return": best, "history": history,
+            "grid_step_n": grid_step_n, "rounds": rounds, "candidates": candidates(), "mean_return": best,
+            "history": history,
             "wall_s": time.time() - t0}
     return s, meta
+
+
+def candidates() -> dict[str, list[float]]:
+    """Where the ascent may put the switches and the table's knots (its start is its history's first record)."""
+    return {"threshold_candidates_rpm": list(THRESHOLD_CANDIDATES_RPM), "table_knots_rpm": list(TABLE_KNOTS_RPM)}
 
 
 def schedule_path(tier: str, kind: str, data_dir: Path = DATA_DIR) -> Path:
@@ -124,8 +130,8 @@ def write_fit(tier: str, kind: str, out: Path | None = None, episodes: int | Non
 def fit_problems(tier: str, kind: str, path: Path, episodes: int, rounds: int, episode_steps: int,
                  store: Path | None = None) -> list[str]:
     """What keeps the stored fit at ``path`` from being what fitting now would write (empty:
-    nothing): absent, another kernel, other episodes, grid or rounds, or another start (its
-    history's first record: the initial schedule at the validation constant)."""
+    nothing): absent, another kernel, other episodes, grid, rounds or switch candidates, or another
+    start (its history's first record: the initial schedule at the validation constant)."""
     from bearing_gym.envs.provenance import kernel_hash
     try:
         d = json.loads(Path(path).read_text())
@@ -134,7 +140,7 @@ def fit_problems(tier: str, kind: str, path: Path, episodes: int, rounds: int, e
     grid = P.CONTEXTUAL_GRID_STEP_N
     want = {"kernel_hash": kernel_hash(), "tier": tier, "kind": kind,
             "seeds": [P.SCHEDULE_FIT_SEED, P.SCHEDULE_FIT_SEED + episodes - 1], "episode_steps": episode_steps,
-            "grid_step_n": grid, "rounds": rounds}
+            "grid_step_n": grid, "rounds": rounds, "candidates": candidates()}
     out = [f"{k}: stored {str(d.get(k))[:40]}, today's {str(v)[:40]}" for k, v in want.items() if d.get(k) != v]
     start = initial(kind, _start_n(tier, store, grid)).to_json()
     if (d.get("history") or [{}])[0].get("setting") != start:

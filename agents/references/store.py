@@ -244,7 +244,10 @@ def validation_problems(tier: str, path: str | Path, episodes: int, episode_step
     want = {"kernel_hash": kernel_hash(), "seeds": tuple(range(VALIDATION.start, VALIDATION.start + episodes)),
             "episode_steps": episode_steps, "grid_step_n": grid_step_n, "grid_n": preload_grid(grid_step_n),
             "rule": VALIDATION_RULE}
-    return [f"{k}: stored {_brief(getattr(c, k))}, today's {_brief(v)}" for k, v in want.items() if getattr(c, k) != v]
+    out = [f"{k}: stored {_brief(getattr(c, k))}, today's {_brief(v)}" for k, v in want.items() if getattr(c, k) != v]
+    if c.episode_returns is None:
+        out.append("episode_returns: not stored (a choice made now stores every candidate's per-episode returns)")
+    return out
 
 
 def _brief(v) -> str:

@@ -7,7 +7,10 @@ references costs hours of cores; :func:`adopt` instead runs the product's ``veri
 the files against today's inputs: the kernel fingerprint, the settings and the upstream values
 each file records) and, when it finds nothing, records the product fresh, its build marked
 ``adopted``. A product without a ``verify`` cannot be adopted, nor one whose upstream products
-are not fresh (adopt or build them first: upstream first).
+are not fresh (adopt or build them first: upstream first), nor one that is stale for what a
+check of records cannot see: files changed since they were built (by hand), or a ``--force``.
+The check trusts what the files record about how they were made; their content is checked where
+they are used (the references' merge replays every plan against its stored return).
 
     python -m agents.regenerate --adopt 'validation:*' 'planner:*'
 """
@@ -41,6 +44,16 @@ def adopt(sel: Selection, names: list[str], layout: Layout, manifest: Manifest,
         if state.state == FRESH:
             log(f"{n}: fresh already")
             continue
+        entry = manifest.entry(n)
+        if inputs.get("forced") and not (entry and entry.get("complete")
+                                         and entry.get("inputs", {}).get("forced") == inputs["forced"]):
+            raise AdoptError(f"{n} is forced (--force: a change the hashes do not see): build it")
+        if entry is not None and entry.get("input_hash") == digest_in:
+            raise AdoptError(f"{n}: its inputs are today's; it is not fresh because its files changed since it was "
+                             f"built (by hand?) or its build is partial: build it (`python -m agents.regenerate --only '{n}'`)")
+        if entry is not None and entry.get("complete") and entry.get("output_digest") not in (
+                None, p.output_digest(layout.root)):
+            raise AdoptError(f"{n}: its files changed since its last build (by hand?): build it")
         if p.verify is None:
             raise AdoptError(f"{n} has no check of its files against today's inputs: build it "
                              f"(`python -m agents.regenerate --only '{n}'`)")
@@ -48,13 +61,15 @@ def adopt(sel: Selection, names: list[str], layout: Layout, manifest: Manifest,
                      if assess(sel.products[u], *sel.inputs[u], manifest.entry(u), layout).state != FRESH]
         if not_fresh:
             raise AdoptError(f"{n}: its upstream {', '.join(not_fresh)} is not fresh; adopt or build it first")
-        problems = p.verify()
+        try:
+            problems = p.verify()
+        except Exception as err:  # noqa: BLE001 - a check that cannot run finds its files unproven
+            problems = [f"its check failed: {type(err).__name__}: {err}"]
         if problems:
             raise AdoptError(f"{n}: its files are not what today's inputs build: " + "; ".join(problems[:3])
                              + (f" (and {len(problems) - 3} more)" if len(problems) > 3 else ""))
-        old = manifest.entry(n) or {}
         manifest.complete(n, inputs, digest_in, p.output_digest(layout.root),
-                          "adopted " + datetime.now().isoformat(timespec="seconds"), float(old.get("wall_s") or 0.0))
+                          "adopted " + datetime.now().isoformat(timespec="seconds"), float((entry or {}).get("wall_s") or 0.0))
         log(f"{n}: adopted (was {state.state}: {'; '.join(state.reasons)})")
         done.append(n)
     return done

@@ -128,7 +128,7 @@ def _references(prof: Profile, L: Layout, tier: str) -> list[Product]:
                 tuple(Part(f"seed_{seed}", B.planner_episode, (tier, seed, planner, steps, L.data),
                            PART_OVERHEAD_S + PLANNER_EPISODE_S.get(tier, 114.0) * steps / EPISODE_STEPS) for seed in seeds),
                 upstream=(f"sweep:{tier}",), settings={**test, "planner": planner},
-                verify=functools.partial(planner_runs.problems, tier, s.episodes, planner, steps, s.hindsight_grid_step_n,
+                verify=functools.partial(planner_runs.problems, tier, s.episodes, planner, steps, planner.grid_step_n,
                                          L.data),
                 command=f"python -m agents.references.planner_runs --tier {tier} --until HH:MM"),
         Product(f"references:{tier}", f"the stored test references of {tier} (sweep and planner merged, every plan "
@@ -176,7 +176,8 @@ def _baselines(prof: Profile, L: Layout, tier: str) -> list[Product]:
                 (Part("fit", B.feedback_fit, (fb_out, tier, fb_n, b["feedback_rounds"], steps),
                       PART_OVERHEAD_S + FEEDBACK_FIT_S * fb_n / 50 * b["feedback_rounds"] / 2 * scale),),
                 settings={"tier": tier, "episodes": fb_n, "rounds": b["feedback_rounds"], "episode_steps": steps,
-                          "candidates": {k: list(v) for k, v in feedback_fit.CANDIDATES.items()}},
+                          "candidates": {k: list(v) for k, v in feedback_fit.CANDIDATES.items()},
+                          "fixed": feedback_fit.fixed_settings()},
                 verify=functools.partial(feedback_fit.fit_problems, tier, fb_out, fb_n, b["feedback_rounds"], steps),
                 command=f"python -m agents.references.feedback_fit --tier {tier}")]
     for kind in b["kinds"]:
@@ -188,7 +189,8 @@ def _baselines(prof: Profile, L: Layout, tier: str) -> list[Product]:
             upstream=(f"validation:{tier}",),
             settings={"tier": tier, "kind": kind, "episodes": sch_n, "rounds": b["schedule_rounds"],
                       "episode_steps": steps, "first_seed": P.SCHEDULE_FIT_SEED,
-                      "grid_step_n": P.CONTEXTUAL_GRID_STEP_N, "start_rule": P.V2_VALIDATION_RULE},
+                      "grid_step_n": P.CONTEXTUAL_GRID_STEP_N, "start_rule": P.V2_VALIDATION_RULE,
+                      "candidates": speed_schedule_fit.candidates()},
             verify=functools.partial(speed_schedule_fit.fit_problems, tier, kind, path, sch_n, b["schedule_rounds"],
                                      steps, store),
             command=f"python -m agents.references.speed_schedule_fit --tier {tier} --kind {kind}"))

@@ -14,6 +14,7 @@ from agents.evaluation.trained import shipped_dirs
 from agents.leaderboard import breakdown, learning_curves, profiles
 from agents.paths import PRETRAINED_DIR
 from agents.policies.mpc import DEFAULT_CANDIDATES_N
+from agents import protocol as P
 from agents.protocol import preload_grid
 from agents.references import tier_gap
 from agents.leaderboard.chaos import replica_path
@@ -32,7 +33,10 @@ def _board(prof: Profile, L) -> list[Product]:
     s = prof.board
     store, oracle = L.data / "reference_constants.json", L.data / "oracle_table.csv"
     out = L.docs / "results.json"
-    models = "agents/trained/*/seed_*" if prof.model_dirs == trained_runs() else " ".join(prof.model_dirs)
+    models = " ".join(prof.model_dirs)
+    if prof.model_dirs == trained_runs():
+        models = ("agents/trained/*/seed_*" if P.PROTOCOL_VERSION < 2 else
+                  f"agents/trained_v2/*/seed_* agents/trained_v2/*/seed_*/by_{P.V2_EARLY_ROW_STEPS}")
     command = f"python -m agents.leaderboard --tier TIER --model {models} --stored-references --keep-other-tiers"
     commit = functools.partial(B.commit_board_tier, out, prof.name, command, (s.bootstrap_reps, s.poi_reps),
                                data_dir=L.data)

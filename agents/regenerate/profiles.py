@@ -25,15 +25,16 @@ from agents.policies.contextual import MIN_FIT_EPISODES
 __all__ = ["Profile", "FULL", "FULL_BASELINES", "TINY", "PROFILES", "trained_runs"]
 
 
-def trained_runs(version: int | None = None) -> tuple[str, ...]:
+def trained_runs(version: int | None = None, early: bool = True) -> tuple[str, ...]:
     """The protocol's trained runs shipped in the checkout: protocol 1's ``agents/trained/<algo>/seed_<s>``;
     protocol 2's ``agents/trained_v2/<algo>/seed_<s>`` and each run's early row
-    (``.../by_<V2_EARLY_ROW_STEPS>``, the best checkpoint up to that step). ``version``: the
-    protocol (default: agents.protocol.PROTOCOL_VERSION)."""
+    (``.../by_<V2_EARLY_ROW_STEPS>``, the best checkpoint up to that step; not with ``early=False``:
+    the learning curves read the runs' logs). ``version``: the protocol (default:
+    agents.protocol.PROTOCOL_VERSION)."""
     version = P.PROTOCOL_VERSION if version is None else version
     root, pattern = (TRAINED_DIR, "*/seed_*") if version < 2 else (TRAINED_V2_DIR, "*/seed_*")
     runs = [p for p in root.glob(pattern) if p.is_dir()]
-    if version >= 2:
+    if version >= 2 and early:
         runs += [p / f"by_{P.V2_EARLY_ROW_STEPS}" for p in runs if (p / f"by_{P.V2_EARLY_ROW_STEPS}").is_dir()]
     return tuple(sorted(p.relative_to(PACKAGE_DIR.parent).as_posix() for p in runs))
 
@@ -98,7 +99,7 @@ FULL = Profile(
     tier_gap={"tier": "transient", "seed": P.TIER_DESIGN.start, "episodes": 20, "grid_step": 50.0, "horizon": 10,
               "replan_every": 5},
     traces={"episodes": 2, "grid_step_n": P.HINDSIGHT_GRID_STEP_N},
-    learning_curves=trained_runs(), bench_accuracy=True, reproduction=True, examples=True)
+    learning_curves=trained_runs(early=False), bench_accuracy=True, reproduction=True, examples=True)
 
 _COARSE = SMOKE.hindsight_grid_step_n     # 300, 1150, 2000 N
 

@@ -152,12 +152,28 @@ def test_adopt_records_a_verified_product_fresh_without_building_it_and_refuses_
     assert manifest.entry("b")["built"].startswith("adopted")
     sel, out = _run(built, graph([]))
     assert sel.states["b"].state == FRESH and sel.to_build == ["d"] and _ran(built) == ["d"]
+    # what a check of records cannot see is refused: files edited by hand since their build, a --force
+    (built / "b.out").write_text("edited by hand")
+    with pytest.raises(AdoptError, match="b: its inputs are today's; it is not fresh because its files changed"):
+        adopt(select(graph([]), layout, manifest, "kernel-1"), ["b"], layout, manifest, log=lambda line: None)
+    g = graph([])
+    g[1] = dataclasses.replace(g[1], settings={"n": 1, "rule": "newest"})
+    with pytest.raises(AdoptError, match="files changed since its last build"):
+        adopt(select(g, layout, manifest, "kernel-1"), ["b"], layout, manifest, log=lambda line: None)
+    (built / "b.out").write_text("b:1")
+    # a check that cannot run proves nothing
+    bad = dataclasses.replace(g[1], settings={"n": 1, "rule": "other"}, verify=lambda: 1 / 0)
+    with pytest.raises(AdoptError, match="its check failed: ZeroDivisionError"):
+        adopt(select([g[0], bad, *g[2:]], layout, manifest, "kernel-1"), ["b"], layout, manifest, log=lambda line: None)
     # an upstream that is not fresh: adopt it (or build it) first
     g = graph([])
     g[0] = dataclasses.replace(g[0], settings={"m": 1})
     g[1] = dataclasses.replace(g[1], settings={"n": 1, "rule": "newer"})
     with pytest.raises(AdoptError, match="b: its upstream a is not fresh"):
         adopt(select(g, layout, manifest, "kernel-1"), ["b"], layout, manifest, log=lambda line: None)
+    # a --force (a change the hashes do not see) stays until the product is built
+    with pytest.raises(AdoptError, match="b is forced"):
+        adopt(select(graph([]), layout, manifest, "kernel-1", force=["b"]), ["b"], layout, manifest, log=lambda line: None)
 
 
 def test_only_builds_a_product_and_what_it_needs(tmp_path):

@@ -83,7 +83,9 @@ def run_tasks(fn: Callable, arg_list: Sequence[tuple], executor=None, max_worker
     """``[fn(*args) for args in arg_list]`` on ``executor`` (any object with the
     ``concurrent.futures.Executor.submit`` interface), in input order, with a progress bar
     (tqdm if installed, else one line per finished task). ``fn`` must be picklable (a module
-    level function) for process executors. Default executor: :func:`local_process_pool` with
+    level function of an importable module: not one defined in a notebook or a package's
+    ``__main__``) for process executors; the default pool spawns its workers, so a script that
+    calls this needs the ``if __name__ == "__main__":`` guard. Default executor: :func:`local_process_pool` with
     ``max_workers`` (default: ``os.cpu_count()``) workers; with one task or one worker the
     calls run in this process."""
     arg_list = list(arg_list)

@@ -118,7 +118,7 @@ def test_parts_and_plans_merge_to_the_one_go_references_and_a_missing_or_foreign
         before = preload_n
 
 
-def test_a_part_made_by_another_kernel_counts_as_missing(tmp_path):
+def test_a_part_made_by_another_kernel_or_the_old_definition_counts_as_missing(tmp_path):
     from agents.leaderboard import reference_parts as rp
     todo = rp.missing("transient", SMOKE, tmp_path)
     kind, first, n = todo[0]
@@ -129,3 +129,6 @@ def test_a_part_made_by_another_kernel_counts_as_missing(tmp_path):
     from bearing_gym.envs.provenance import kernel_hash
     path.write_text(json.dumps({"kernel_hash": kernel_hash()}))
     assert (kind, first, n) not in rp.missing("transient", SMOKE, tmp_path)
+    # a part of the definition before the sweep was decoupled (it swept the validation constant too) is missing
+    path.write_text(json.dumps({"kernel_hash": kernel_hash(), "validation_preload_n": 1850.0}))
+    assert (kind, first, n) in rp.missing("transient", SMOKE, tmp_path)

@@ -92,10 +92,13 @@ def test_mixed_joins_its_sources_first_episodes_in_order(minari_home, monkeypatc
     _tiny(monkeypatch)
     work = minari_home / "work"
     cat = minari_home / "cat.json"
+    # built first, mixed records only the source parts that hold the episodes it takes
+    B.build("transient/mixed", work_dir=work, processes=1, record=True, catalogue=cat, log=lambda s: None)
+    assert sorted(p.name for p in (work / "transient" / "random").iterdir()) == ["part_45000_2.npz"]
+    assert B.parts_left(R.recipe("transient/random"), work) == [(45_002, 1)]
     for name in ("transient/random", "transient/constant"):
         B.build(name, work_dir=work, processes=1, record=True, catalogue=cat, log=lambda s: None)
     assert B.parts_left(R.recipe("transient/random"), work) == []
-    B.build("transient/mixed", work_dir=work, processes=1, record=True, catalogue=cat, log=lambda s: None)
     mixed = list(minari.load_dataset("bearing_gym/transient/mixed-v0").iterate_episodes())
     random = B.episodes_of(R.recipe("transient/random"), work)
     constant = B.episodes_of(R.recipe("transient/constant"), work)
@@ -104,6 +107,11 @@ def test_mixed_joins_its_sources_first_episodes_in_order(minari_home, monkeypatc
         assert np.array_equal(got.rewards, want["rewards"]) and np.array_equal(got.observations, want["observations"])
     # the constant's actions are the actuator's top, every step
     assert np.all(constant[0]["actions"] == np.float32(1.0))
+    # mixed's recipe digest follows its sources' (a source's new recipe is a new mixed dataset)
+    before = R.recipe("transient/mixed").digest()
+    R.RECIPES["bearing_gym/transient/constant-v0"] = R.Recipe("constant", "transient", "constant", 3,
+                                                              policy={"preload_n": 1900.0})
+    assert R.recipe("transient/mixed").digest() != before
 
 
 def test_the_expert_replays_its_stored_plans_and_refuses_a_stale_one(minari_home, monkeypatch):
@@ -131,6 +139,10 @@ def test_the_expert_replays_its_stored_plans_and_refuses_a_stale_one(minari_home
     out = collect_part(expert.dataset_id, seed, 1, str(work), str(plans))
     with np.load(out) as z:
         assert sum(float(x) for x in z["rewards"]) == want
+    assert B.parts_left(expert, work, plans) == []
+    d = json.loads(path.read_text())                   # re-made plans: the part replayed from the old ones is stale
+    path.write_text(json.dumps({**d, "wall_s": 1.0}))
+    assert B.parts_left(expert, work, plans) == [(seed, 1)]
     write(float(np.nextafter(want, -np.inf)))
     with pytest.raises(RuntimeError, match="the plan file is stale"):
         collect_part(expert.dataset_id, seed, 1, str(work), str(plans))
@@ -152,3 +164,12 @@ def test_the_recipes_use_training_seeds_only_and_protocol_v2s_validation_constan
         R.Recipe("x", "transient", "random", 10, first_seed=P.TEST.start)
     with pytest.raises(KeyError, match="no dataset 'transient/nothing'"):
         R.recipe("transient/nothing")
+
+
+def test_the_expert_is_planned_on_spawned_worker_processes(tmp_path):
+    """``plan --processes N`` hands plan_chunk to spawned workers: it must be importable there
+    (not defined in a package's __main__); chunks with nothing left to plan return 0."""
+    from bearing_gym.analysis.sweeps import run_tasks
+    from agents.offline.collect import plan_chunk
+    assert run_tasks(plan_chunk, [("transient/expert", [], str(tmp_path), None)] * 2, max_workers=2,
+                     progress=False) == [0, 0]

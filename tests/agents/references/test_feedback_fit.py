@@ -54,3 +54,9 @@ def test_a_tuned_rule_is_stored_and_its_value_is_its_return(tmp_path, monkeypatc
     assert F.fit_problems("paper", out, 1, 1, 6) == []
     assert [p.split(":")[0] for p in F.fit_problems("paper", out, 1, 2, 6)] == ["rounds"]
     assert F.fit_problems("paper", tmp_path / "none.json", 1, 1, 6)[0].startswith("no fit")
+    # a fit made with other index thresholds, or from another start, is another fit
+    other = dict(stored, fixed={"high": 0.0, "low": 0.0},
+                 history=[{"setting": {"start_n": 300.0, "raise_n": 50.0, "lower_n": 0.0, "hold_steps": 3}}])
+    (tmp_path / "other.json").write_text(json.dumps(other))
+    assert sorted(p.split(":")[0] for p in F.fit_problems("paper", tmp_path / "other.json", 1, 1, 6)) == \
+        ["fixed", "start"]

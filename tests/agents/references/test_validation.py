@@ -152,6 +152,9 @@ def test_the_adoption_check_names_what_differs_from_today_and_passes_a_choice_ma
     means = tuple(-abs(p - 1150.0) for p in grid)
     save_choice(ValidationChoice("transient", 1150.0, (50_000, 50_001), 850.0, grid, means, 2,
                                  kernel_hash=kernel_hash()), store)
+    assert [p.split(":")[0] for p in validation_problems("transient", store, 2, 2, 850.0)] == ["episode_returns"]
+    save_choice(ValidationChoice("transient", 1150.0, (50_000, 50_001), 850.0, grid, means, 2,
+                                 episode_returns=tuple((m, m) for m in means), kernel_hash=kernel_hash()), store)
     assert validation_problems("transient", store, 2, 2, 850.0) == []
     assert [p.split(":")[0] for p in validation_problems("transient", store, 3, 4, 850.0)] == ["seeds", "episode_steps"]
     monkeypatch.setattr(P, "VALIDATION_RULE", "one_se_largest")
