@@ -36,7 +36,7 @@ __all__ = ["PROTOCOL_VERSION", "TRAIN", "VALIDATION", "TIER_DESIGN", "TEST", "RE
            "HEADLINE_SEEDS", "OTHER_SEEDS", "RUN_SEED_STRIDE", "STEP_BUDGET_PER_RUN",
            "STEP_BUDGET_CHOSEN_FROM_THROUGHPUT", "VALIDATION_EPISODES_IN_TRAINING", "VALIDATION_EVERY_STEPS",
            "SCHEDULE_FIT_EPISODES", "SCHEDULE_FIT_SEED", "SCHEDULE_FIT_ROUNDS", "TUNING_TRIALS", "TUNING_STEPS", "TUNING_VALIDATION_EPISODES", "TUNING_STARTUP_TRIALS",
-           "TUNING_PRUNE_AFTER_STEPS", "TUNING_LAST_VALIDATIONS", "TUNING_SAMPLER_SEED", "TUNING_RANDOM_TRIALS", "TUNING_TRAIN_SEED", "VALIDATION_RULES", "VALIDATION_RULE", "TUNING_VALIDATION_RULE", "TUNING_PROTOCOL_VERSION",
+           "TUNING_PRUNE_AFTER_STEPS", "TUNING_LAST_VALIDATIONS", "TUNING_SAMPLER_SEED", "TUNING_RANDOM_TRIALS", "TUNING_TRAIN_SEED", "VALIDATION_RULES", "PROTOCOL_VALIDATION_RULES", "VALIDATION_RULE", "TUNING_VALIDATION_RULE", "TUNING_PROTOCOL_VERSION",
            "V2_ALGORITHMS", "V2_SEEDS", "V2_STEP_BUDGET_PER_RUN", "V2_EARLY_ROW_STEPS", "V2_VALIDATION_EPISODES_IN_TRAINING",
            "V2_START_BANK_STARTS", "V2_VALIDATION_RULE", "V2_PLANNER_SETTINGS_SHA256", "V2_CAUSAL_MPC_SETTINGS_SHA256",
            "V2_FEEDBACK_TUNE_EPISODES", "V2_FEEDBACK_TUNE_ROUNDS", "v2_training_seeds",
@@ -83,7 +83,9 @@ VALIDATION_GRID_STEP_N = HINDSIGHT_GRID_STEP_N
 #: conservative side of every quasi-periodic window of the map. Tuning (run before the v2 bump)
 #: normalises with protocol 2's rule already: TUNING_VALIDATION_RULE.
 VALIDATION_RULES = ("best_mean", "one_se_largest")
-VALIDATION_RULE = "best_mean"
+#: each protocol version's rule; the board's is its version's
+PROTOCOL_VALIDATION_RULES = {1: "best_mean", 2: "one_se_largest"}
+VALIDATION_RULE = PROTOCOL_VALIDATION_RULES[PROTOCOL_VERSION]
 TUNING_VALIDATION_RULE = "one_se_largest"
 #: The protocol version the hyperparameter search serves (its optuna studies and ymls are v2's).
 TUNING_PROTOCOL_VERSION = 2
@@ -176,7 +178,7 @@ V2_VALIDATION_EPISODES_IN_TRAINING = 50
 #: / EPISODE_STEPS = 2000): no run meets a start twice.
 V2_START_BANK_STARTS = 2048
 #: The board's "0": the validation constant by this rule (VALIDATION_RULES).
-V2_VALIDATION_RULE = "one_se_largest"
+V2_VALIDATION_RULE = PROTOCOL_VALIDATION_RULES[2]
 #: The references frozen with the protocol: the sha256 (first 16 hex digits) of the settings'
 #: JSON (sort_keys) - the planner's (agents.policies.planner.PlannerSettings().as_dict(), the
 #: settings of the stored v2 plans) and the causal MPC's (CausalMPCSettings().digest());

@@ -44,7 +44,7 @@ from agents.protocol import (HINDSIGHT_GRID_STEP_N, VALIDATION, VALIDATION_CONST
 from agents.references.store import STORE_PATH, ValidationChoice, rule_choice, save_choice, validation_episodes
 
 
-__all__ = ["choose_validation_constant", "hindsight_grid", "hindsight_reference", "ContextualConstant", "main"]
+__all__ = ["choose_validation_constant", "rechoose", "hindsight_grid", "hindsight_reference", "ContextualConstant", "main"]
 
 
 def choose_validation_constant(tier: str, episodes: int = VALIDATION_CONSTANT_EPISODES,
@@ -67,6 +67,18 @@ def choose_validation_constant(tier: str, episodes: int = VALIDATION_CONSTANT_EP
                             episode_steps=episode_steps, wall_s=time.time() - t0,
                             episode_returns=returns,
                             kernel_hash=kernel_hash())
+
+
+def rechoose(tier: str, store: Path = STORE_PATH, rule: str = VALIDATION_RULE) -> ValidationChoice:
+    """The stored choice of ``tier`` picked again by ``rule`` (default: the protocol's) from its
+    stored per-episode validation returns, nothing run, and stored; returns it. A new protocol's
+    rule on the same validation sweep."""
+    import dataclasses
+    from agents.references.store import load_choice
+    old = load_choice(tier, store)
+    new = dataclasses.replace(old, preload_n=old.preload_for_rule(rule), rule=rule)
+    save_choice(new, store)
+    return new
 
 
 def hindsight_grid(grid_step_n: float = HINDSIGHT_GRID_STEP_N, extra_n: Sequence[float] = ()) -> tuple[float, ...]:
@@ -94,11 +106,18 @@ def build_parser() -> argparse.ArgumentParser:
                                     "1 on a deterministic tier, where every seed gives the same episode)",
                       seed=VALIDATION.start, seed_help="first validation seed", grid_step_n=VALIDATION_GRID_STEP_N)
     ap.add_argument("--store", default=str(STORE_PATH), help="the JSON store (default: %(default)s)")
+    ap.add_argument("--rechoose", action="store_true",
+                    help=f"pick the stored choice again by the protocol's rule ({VALIDATION_RULE}) from its stored "
+                         "per-episode returns; runs nothing")
     return ap
 
 
 def main(argv: list[str] | None = None) -> None:
     a, grid = parse_sweep(build_parser(), argv, validation_episodes, "validation constant", "validation")
+    if a.rechoose:
+        choice = rechoose(a.tier, Path(a.store))
+        print(f"{a.store}: tier {a.tier} -> {choice.describe()} (rule {choice.rule}, from the stored returns)")
+        return
     choice = choose_validation_constant(a.tier, a.episodes, a.seed, a.episode_steps, a.grid_step,
                                         progress=f"validation sweep: {len(grid)} constants x {a.episodes} episodes")
     save_choice(choice, Path(a.store))

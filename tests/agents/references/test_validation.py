@@ -160,3 +160,17 @@ def test_the_adoption_check_names_what_differs_from_today_and_passes_a_choice_ma
     monkeypatch.setattr(P, "VALIDATION_RULE", "one_se_largest")
     assert [p.split(":")[0] for p in validation_problems("transient", store, 2, 2, 850.0)] == ["rule"]
     assert validation_problems("stationary", store, 2, 2, 850.0)[0].startswith("no validation-chosen constant")
+
+
+def test_rechoose_picks_again_by_another_rule_from_the_stored_returns_and_runs_nothing(tmp_path, monkeypatch):
+    """Protocol v2's rule on protocol 1's validation sweep: the entry's preload and rule change,
+    its returns do not, and no episode runs."""
+    store = tmp_path / "c.json"
+    two = ((-1.0, -3.0), (-2.9, -2.9), (-3.1, -3.1))   # 300 N best (mean -2, SE 1): 1150 N within, 2000 N not
+    save_choice(ValidationChoice("transient", 300.0, (50_000, 50_001), 850.0, GRID, (-2.0, -2.9, -3.1), 2,
+                                 episode_returns=two), store)
+    monkeypatch.setattr(references, "constant_sweep", lambda *a, **k: pytest.fail("rechoose ran an episode"))
+    new = references.rechoose("transient", store, "one_se_largest")
+    assert (new.preload_n, new.rule) == (1150.0, "one_se_largest")
+    stored = load_choice("transient", store)
+    assert stored == new and stored.episode_returns == two and stored.mean_returns == (-2.0, -2.9, -3.1)
