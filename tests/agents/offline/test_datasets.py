@@ -153,6 +153,8 @@ def test_the_expert_replays_its_stored_plans_and_refuses_a_stale_one(minari_home
 
 def test_the_recipes_use_training_seeds_only_and_protocol_v2s_validation_constant():
     from agents.references.store import load_choice
+    digests = {r.dataset_id: r.digest() for r in R.RECIPES.values()}   # every file a recipe names is there
+    assert len(set(digests.values())) == len(digests)
     for r in R.RECIPES.values():
         assert r.first_seed == P.OFFLINE_DATASET_SEED and P.range_of(r.first_seed) == "train"
         if r.kind != "mixed":
