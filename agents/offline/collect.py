@@ -21,6 +21,7 @@ from typing import Any
 import numpy as np
 
 from agents.offline.recipes import PLANS_DIR, Recipe, pretrained_dir, recipe
+from agents.policies.planner import sequential_sum
 
 __all__ = ["INFO_KEYS", "collect_part", "part_path", "read_part", "episode_policy", "plans_missing", "plan_expert",
            "plan_chunk", "plans_digest"]
@@ -163,8 +164,8 @@ def collect_part(name: str, first: int, n: int, work_dir: str, plans_dir: str | 
     for seed in range(first, first + n):
         behaviour, want = episode_policy(r, seed, plans)
         ep = _episode(env, seed, behaviour)
-        if want is not None and _sum_in_order(ep["rew"]) != want:
-            raise RuntimeError(f"{r.dataset_id} seed {seed}: the replayed plan returns {_sum_in_order(ep['rew'])!r}, the plan stored "
+        if want is not None and sequential_sum(ep["rew"]) != want:
+            raise RuntimeError(f"{r.dataset_id} seed {seed}: the replayed plan returns {sequential_sum(ep['rew'])!r}, the plan stored "
                                f"{want!r}: the plan file is stale")
         eps.append(ep)
     env.close()
@@ -188,14 +189,6 @@ def collect_part(name: str, first: int, n: int, work_dir: str, plans_dir: str | 
     np.savez(tmp, meta=np.array(json.dumps(meta)), **arrays)
     os.replace(tmp, path)
     return str(path)
-
-
-def _sum_in_order(rewards: list[float]) -> float:
-    """The return as the evaluation loop sums it (float64, step by step from 0.0)."""
-    total = 0.0
-    for x in rewards:
-        total += x
-    return total
 
 
 def read_part(path: Path) -> tuple[dict[str, Any], dict[str, np.ndarray]]:

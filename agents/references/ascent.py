@@ -14,7 +14,7 @@ from typing import Any, Callable, Sequence, TypeVar
 
 import numpy as np
 
-__all__ = ["coordinate_ascent", "mean_returns"]
+__all__ = ["coordinate_ascent", "mean_returns", "record_problems"]
 
 S = TypeVar("S")
 
@@ -57,3 +57,20 @@ def mean_returns(tier: str, episodes: int, seed: int, episode_steps: int, **run_
         ran = run_policies(policies, episodes, seed, episode_steps, env_kwargs={"tier": tier}, **run_kw)
         return np.array([float(np.mean(r.returns)) for r in ran])
     return evaluate
+
+
+def record_problems(path, want: dict[str, Any], start: Any) -> list[str]:
+    """What keeps a stored fit at ``path`` (a JSON record with the ascent's history) from being
+    what fitting now would write: absent, a field of ``want`` (kernel, seeds, rounds,
+    candidates, ...) stored with another value, or another start (the history's first record)."""
+    import json
+    from pathlib import Path
+    try:
+        d = json.loads(Path(path).read_text())
+    except (OSError, ValueError):
+        return [f"no fit in {path}"]
+    out = [f"{k}: stored {str(d.get(k))[:40]}, today's {str(v)[:40]}" for k, v in want.items() if d.get(k) != v]
+    stored = (d.get("history") or [{}])[0].get("setting")
+    if stored != start:
+        out.append(f"start: stored {str(stored)[:60]}, today's {start}")
+    return out

@@ -26,7 +26,7 @@ from bearing_gym.task import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
 from agents import protocol as P
 from agents.paths import DATA_DIR
 from agents.policies.scripted import FeedbackRule
-from agents.references.ascent import coordinate_ascent, mean_returns
+from agents.references.ascent import coordinate_ascent, mean_returns, record_problems
 
 __all__ = ["CANDIDATES", "fit_feedback", "feedback_path", "load_feedback", "write_fit", "fit_problems", "fixed_settings", "main"]
 
@@ -109,18 +109,10 @@ def fit_problems(tier: str, path: Path, episodes: int, rounds: int, episode_step
     nothing): absent, another kernel, other episodes, rounds, candidates or fixed thresholds, or
     another start (its history's first record: the rule's defaults)."""
     from bearing_gym.envs.provenance import kernel_hash
-    try:
-        d = json.loads(Path(path).read_text())
-    except (OSError, ValueError):
-        return [f"no fit in {path}"]
     want = {"kernel_hash": kernel_hash(), "tier": tier, "seeds": [P.VALIDATION.start, P.VALIDATION.start + episodes - 1],
             "episode_steps": episode_steps, "rounds": rounds,
             "candidates": {k: list(v) for k, v in CANDIDATES.items()}, "fixed": fixed_settings()}
-    out = [f"{k}: stored {str(d.get(k))[:40]}, today's {str(v)[:40]}" for k, v in want.items() if d.get(k) != v]
-    start = _setting(FeedbackRule())
-    if (d.get("history") or [{}])[0].get("setting") != start:
-        out.append(f"start: stored {str((d.get('history') or [{}])[0].get('setting'))[:60]}, today's {start}")
-    return out
+    return record_problems(path, want, _setting(FeedbackRule()))
 
 
 def main(argv: list[str] | None = None) -> None:

@@ -28,7 +28,7 @@ from bearing_gym.task import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
 from agents import protocol as P
 from agents.paths import DATA_DIR
 from agents.policies.speed_schedule import SpeedSchedule
-from agents.references.ascent import coordinate_ascent, mean_returns
+from agents.references.ascent import coordinate_ascent, mean_returns, record_problems
 
 __all__ = ["KINDS", "THRESHOLD_CANDIDATES_RPM", "TABLE_KNOTS_RPM", "initial", "fit_schedule", "schedule_path",
            "write_fit", "fit_problems", "candidates", "main"]
@@ -133,19 +133,11 @@ def fit_problems(tier: str, kind: str, path: Path, episodes: int, rounds: int, e
     nothing): absent, another kernel, other episodes, grid, rounds or switch candidates, or another
     start (its history's first record: the initial schedule at the validation constant)."""
     from bearing_gym.envs.provenance import kernel_hash
-    try:
-        d = json.loads(Path(path).read_text())
-    except (OSError, ValueError):
-        return [f"no fit in {path}"]
     grid = P.CONTEXTUAL_GRID_STEP_N
     want = {"kernel_hash": kernel_hash(), "tier": tier, "kind": kind,
             "seeds": [P.SCHEDULE_FIT_SEED, P.SCHEDULE_FIT_SEED + episodes - 1], "episode_steps": episode_steps,
             "grid_step_n": grid, "rounds": rounds, "candidates": candidates()}
-    out = [f"{k}: stored {str(d.get(k))[:40]}, today's {str(v)[:40]}" for k, v in want.items() if d.get(k) != v]
-    start = initial(kind, _start_n(tier, store, grid)).to_json()
-    if (d.get("history") or [{}])[0].get("setting") != start:
-        out.append(f"start: stored {str((d.get('history') or [{}])[0].get('setting'))[:60]}, today's {start}")
-    return out
+    return record_problems(path, want, initial(kind, _start_n(tier, store, grid)).to_json())
 
 
 def main(argv: list[str] | None = None) -> None:
