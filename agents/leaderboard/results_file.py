@@ -23,17 +23,43 @@ __all__ = ["protocol_summary", "header", "default_out", "kept_tiers", "table_pat
 
 
 
-def protocol_summary() -> dict[str, Any]:
-    """The frozen protocol (:mod:`agents.protocol`) as results.json records it."""
+def protocol_summary(version: int | None = None) -> dict[str, Any]:
+    """The frozen protocol (:mod:`agents.protocol`) of ``version`` (default: the board's,
+    ``PROTOCOL_VERSION``) as results.json records it."""
     from agents.policies.planner import PlannerSettings
-    return {"version": P.PROTOCOL_VERSION, "test_episodes": P.TEST_EPISODES,
-            "upper_reference": {"planner": PlannerSettings().as_dict(), "episodes": "every test episode"},
-            "validation_constant_episodes": P.VALIDATION_CONSTANT_EPISODES,
-            "contextual_fit_episodes": P.CONTEXTUAL_FIT_EPISODES, "headline_algorithm": P.HEADLINE_ALGORITHM,
-            "training_seeds": {a: list(P.training_seeds(a)) for a in P.ALGORITHMS},
-            "step_budget_per_run": P.STEP_BUDGET_PER_RUN,
-            "step_budget_chosen_from_throughput": P.STEP_BUDGET_CHOSEN_FROM_THROUGHPUT,
-            "denominator_floor": scoring.DENOMINATOR_FLOOR}
+    version = P.PROTOCOL_VERSION if version is None else version
+    if version not in P.PROTOCOL_VALIDATION_RULES:
+        raise ValueError(f"unknown protocol version {version}: agents.protocol defines "
+                         f"{', '.join(map(str, P.PROTOCOL_VALIDATION_RULES))}")
+    common = {"version": version, "test_episodes": P.TEST_EPISODES,
+              "upper_reference": {"planner": PlannerSettings().as_dict(), "episodes": "every test episode"},
+              "validation_constant_episodes": P.VALIDATION_CONSTANT_EPISODES,
+              "validation_rule": P.PROTOCOL_VALIDATION_RULES[version],
+              "contextual_fit_episodes": P.CONTEXTUAL_FIT_EPISODES}
+    if version == 1:
+        return {**common, "headline_algorithm": P.HEADLINE_ALGORITHM,
+                "training_seeds": {a: list(P.training_seeds(a)) for a in P.ALGORITHMS},
+                "step_budget_per_run": P.STEP_BUDGET_PER_RUN,
+                "step_budget_chosen_from_throughput": P.STEP_BUDGET_CHOSEN_FROM_THROUGHPUT,
+                "denominator_floor": scoring.DENOMINATOR_FLOOR}
+    if version == 2:
+        return {**common, "algorithms": list(P.V2_ALGORITHMS),
+                "training_seeds": {a: list(P.v2_training_seeds()) for a in P.V2_ALGORITHMS},
+                "step_budget_per_run": P.V2_STEP_BUDGET_PER_RUN, "early_row_steps": P.V2_EARLY_ROW_STEPS,
+                "validation_episodes_in_training": P.V2_VALIDATION_EPISODES_IN_TRAINING,
+                "validation_every_steps": P.VALIDATION_EVERY_STEPS, "start_bank_starts": P.V2_START_BANK_STARTS,
+                "hyperparameters": "agents/hyperparams/v2/<algo>.yml (agents/tuning/<algo>.json: every trial)",
+                "tuning": {"trials": P.TUNING_TRIALS, "steps_per_trial": P.TUNING_STEPS,
+                           "validation_episodes": P.TUNING_VALIDATION_EPISODES,
+                           "prune_after_steps": P.TUNING_PRUNE_AFTER_STEPS,
+                           "startup_trials": P.TUNING_STARTUP_TRIALS, "random_trials": P.TUNING_RANDOM_TRIALS,
+                           "value": f"mean of the last {P.TUNING_LAST_VALIDATIONS} validation scores"},
+                "planner_settings_sha256": P.V2_PLANNER_SETTINGS_SHA256,
+                "causal_mpc_settings_sha256": P.V2_CAUSAL_MPC_SETTINGS_SHA256,
+                "feedback_tune_episodes": P.V2_FEEDBACK_TUNE_EPISODES,
+                "schedule_fit_episodes": P.SCHEDULE_FIT_EPISODES,
+                "denominator_floor": scoring.DENOMINATOR_FLOOR}
+    raise ValueError(f"protocol version {version} has no summary here: add it beside 1 and 2")
 
 
 def header(mode: str, command: str, bootstrap_reps: int, poi_reps: int) -> dict[str, Any]:

@@ -12,7 +12,10 @@ from agents.leaderboard import scoring
 from agents.evaluation.result import EvalResult
 
 
-__all__ = ["score_fields", "summarise", "pairwise_improvement", "to_markdown"]
+__all__ = ["score_fields", "summarise", "pairwise_improvement", "improvement", "best_of_kind", "to_markdown"]
+
+#: the row kinds of the statistics table (every row with intervals of its own; not the references)
+STATISTICS_KINDS = ("learned", "industry", "model-based", "submitted")
 
 
 def _metrics(results: list[EvalResult]) -> dict[str, Any]:
@@ -92,6 +95,65 @@ def pairwise_improvement(returns: dict[str, np.ndarray], r0: np.ndarray, r1: np.
                 for b in names[i + 1:]} for i, a in enumerate(names[:-1])}
 
 
+def improvement(pairwise: dict[str, dict[str, list[float]]], a: str, b: str) -> list[float] | None:
+    """P(row ``a`` improves on row ``b``) with its 95 % interval from a tier's ``pairwise_improvement``
+    (:func:`pairwise_improvement` stores each pair once; the other order is its complement, ties
+    counting one half, and the interval flips with it); None if the pair was not compared."""
+    if b in pairwise.get(a, {}):
+        return list(pairwise[a][b])
+    if a in pairwise.get(b, {}):
+        p, lo, hi = pairwise[b][a]
+        return [1.0 - p, 1.0 - hi, 1.0 - lo]
+    return None
+
+
+def best_of_kind(policies: dict[str, dict], kind: str) -> str | None:
+    """The row of ``kind`` with the highest normalised-score IQM (the first on a tie), or None."""
+    rows = [(name, r) for name, r in policies.items() if r["kind"] == kind]
+    return max(rows, key=lambda nr: nr[1]["normalised_score_iqm"])[0] if rows else None
+
+
+def _interval(point: float | None, lo: float | None, hi: float | None) -> str:
+    if point is None:
+        return "-"
+    return f"{point:.3f}" + ("" if lo is None or hi is None else f" [{lo:.3f}, {hi:.3f}]")
+
+
+def _statistics(t: dict[str, Any]) -> list[str]:
+    """A tier's statistics beyond the IQM, for the rows with intervals of their own: the mean and
+    the optimality gap (rliable; the gap is the mean shortfall below 1, scores above 1 counting
+    as 1), the probability of improvement over the tier's best industry row, and every pair of
+    learned rows."""
+    rows = [(name, r) for name, r in t["policies"].items() if r["kind"] in STATISTICS_KINDS]
+    if not rows:
+        return []
+    pairwise = t.get("pairwise_improvement", {})
+    industry = best_of_kind(t["policies"], "industry")
+    lines = ["Beyond the IQM (rliable, 95 % intervals as above): the mean normalised score, the optimality gap "
+             "(the mean shortfall below 1, a score above 1 counting as 1: lower is better)"
+             + (f" and P(> best industry): the probability of improvement over the best industry row by IQM, "
+                f"{industry}." if industry else "."), "",
+             "| policy | IQM [95 % CI] | mean [95 % CI] | optimality gap [95 % CI] | P(> best industry) [95 % CI] |",
+             "|---|---|---|---|---|"]
+    for name, r in rows:
+        versus = improvement(pairwise, name, industry) if industry and name != industry else None
+        lines.append(f"| {name} | {_interval(r['normalised_score_iqm'], r.get('ci_low'), r.get('ci_high'))} "
+                     f"| {_interval(r.get('normalised_score_mean'), r.get('mean_ci_low'), r.get('mean_ci_high'))} "
+                     f"| {_interval(r.get('optimality_gap'), r.get('optimality_gap_ci_low'), r.get('optimality_gap_ci_high'))} "
+                     f"| {_poi(versus)} |")
+    lines.append("")
+    learned = [name for name, r in rows if r["kind"] == "learned"]
+    pairs = [(a, b, improvement(pairwise, a, b)) for i, a in enumerate(learned) for b in learned[i + 1:]]
+    pairs = [(a, b, p) for a, b, p in pairs if p is not None]
+    if pairs:
+        lines += ["Learned rows pair by pair: P(A > B), the probability that A's normalised score beats B's on a "
+                  "test episode (paired by episode, seeds within it drawn; rliable), 95 % interval; P(B > A) is "
+                  "1 - P(A > B).", "", "| A | B | P(A > B) [95 % CI] |", "|---|---|---|"]
+        lines += [f"| {a} | {b} | {_poi(p)} |" for a, b, p in pairs]
+        lines.append("")
+    return lines
+
+
 def _fmt(x: float | None, spec: str = ".2f") -> str:
     return "-" if x is None else format(x, spec)
 
@@ -149,6 +211,7 @@ def to_markdown(results: dict[str, Any]) -> str:
                          f"| {_fmt(r['vibration_amplitude_um'])} | {r['heat_cost']:.2f} | {r['fatigue_cost']:.2f} "
                          f"| {r['terminated_episodes']} |")
         lines.append("")
+        lines += _statistics(t)
         submitted = [(name, r) for name, r in t["policies"].items() if r["kind"] == "submitted"]
         if submitted:
             lines += ["Submitted rows (python -m agents.submit; scored by the board from their per-episode returns): "

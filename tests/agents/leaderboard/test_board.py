@@ -78,6 +78,8 @@ def test_smoke_leaderboard_writes_every_row_with_its_statistics(tmp_path):
     table = (out.parent / "results_table.md").read_text()
     assert all(f"| {name} |" in table for name in rows)
     assert "- PPO (trained): seed 0, 0 steps, -; seed 1000, 0 steps, -" in table     # no train_wall_s recorded
+    assert (f"| PPO (trained) | {ppo['normalised_score_iqm']:.3f} [{ppo['ci_low']:.3f}, {ppo['ci_high']:.3f}] "
+            f"| {ppo['normalised_score_mean']:.3f}") in table                  # the statistics beyond the IQM
 
 
 def test_pretrained_without_shipped_policies_says_what_to_do(tmp_path):
