@@ -12,10 +12,11 @@ which option names the file instead.
 
 from __future__ import annotations
 
+import hashlib
 from pathlib import Path
 
 
-__all__ = ["PACKAGE_DIR", "DATA_DIR", "PRETRAINED_DIR", "HYPERPARAMS_DIR", "checkout_root", "require_checkout",
+__all__ = ["file_digest", "PACKAGE_DIR", "DATA_DIR", "PRETRAINED_DIR", "HYPERPARAMS_DIR", "checkout_root", "require_checkout",
            "runs_dir", "docs_dir", "TRAINED_DIR", "start_bank_path"]
 
 PACKAGE_DIR = Path(__file__).resolve().parent
@@ -60,3 +61,13 @@ def start_bank_path(tier: str) -> Path:
     ``start_bank="shipped"``; it may not exist): in the env's package, bearing_gym/data/."""
     from bearing_gym.envs.start_bank import shipped_path
     return shipped_path(tier)
+
+
+def file_digest(path: Path) -> str:
+    """The SHA-256 (hex) of a file's bytes, read in 1 MiB blocks: how a record names the exact
+    file it was made from (the regeneration's inputs, an offline dataset's policy weights)."""
+    h = hashlib.sha256()
+    with open(path, "rb") as fh:
+        for block in iter(lambda: fh.read(1 << 20), b""):
+            h.update(block)
+    return h.hexdigest()

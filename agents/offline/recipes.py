@@ -28,7 +28,7 @@ from pathlib import Path
 from typing import Any
 
 from agents import protocol as P
-from agents.paths import DATA_DIR, PACKAGE_DIR
+from agents.paths import DATA_DIR, PRETRAINED_DIR, file_digest
 
 __all__ = ["Recipe", "RECIPES", "recipe", "dataset_id", "KINDS", "MEDIUM_PRETRAINED", "PLANS_DIR", "pretrained_dir",
            "VALIDATION_CONSTANT_N"]
@@ -95,16 +95,12 @@ class Recipe:
         if self.kind == "mixed":
             d["sources_sha"] = [recipe(f"{self.tier}/{name}").digest() for name, _ in self.sources]
         if self.kind == "portable":
-            d["policy_weights_sha256"] = _file_digest(pretrained_dir(self.policy["pretrained"]) / "portable_policy.npz")
+            d["policy_weights_sha256"] = file_digest(pretrained_dir(self.policy["pretrained"]) / "portable_policy.npz")
         return hashlib.sha256(json.dumps(d, sort_keys=True).encode()).hexdigest()[:16]
 
 
-def _file_digest(path: Path) -> str:
-    return hashlib.sha256(Path(path).read_bytes()).hexdigest()
-
-
 def pretrained_dir(name: str) -> Path:
-    return PACKAGE_DIR / "pretrained" / name
+    return PRETRAINED_DIR / name
 
 
 def dataset_id(tier: str, name: str) -> str:

@@ -18,7 +18,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any, Callable, Mapping
 
-__all__ = ["Layout", "Part", "Product", "file_digest", "tree_digest", "missing_files", "json_entry_digest",
+from agents.paths import file_digest
+
+__all__ = ["Layout", "Part", "Product", "tree_digest", "missing_files", "json_entry_digest",
            "as_json", "env_cost", "PART_OVERHEAD_S", "STEP_CORE_S", "SETTLE_STEPS"]
 
 #: what a part costs besides its simulation (a worker's imports, the numba cache), seconds
@@ -121,14 +123,6 @@ def as_json(value: Any) -> Any:
             return x.as_posix()
         raise TypeError(f"not a JSON value: {x!r}")
     return json.loads(json.dumps(value, default=default, sort_keys=True))
-
-
-def file_digest(path: Path) -> str:
-    h = hashlib.sha256()
-    with open(path, "rb") as fh:
-        for block in iter(lambda: fh.read(1 << 20), b""):
-            h.update(block)
-    return h.hexdigest()
 
 
 def _files(paths: tuple[Path, ...]) -> list[Path]:
