@@ -41,6 +41,25 @@ def integer(text: str) -> int:
         raise argparse.ArgumentTypeError(f"not an integer: {text!r}") from None
 
 
+def _execution_options(g: argparse._ArgumentGroup, unit: str) -> None:
+    """--workers, --backend and --address: where a command's tasks run (``unit``: what one Ray task is)."""
+    g.add_argument("--workers", type=integer, default=min(2, os.cpu_count() or 1), metavar="N",
+                   help="parallel worker processes of the local backend, or CPUs of the local "
+                        "Ray instance of --backend ray without --address (>= 1; default "
+                        "%(default)d)")
+    g.add_argument("--backend", choices=("local", "ray"), default="local",
+                   help="where the tasks run: local = a pool of --workers processes on this "
+                        "machine; ray = Ray tasks, on a new local Ray instance or on the cluster "
+                        f"at --address, {unit} (needs pip install "
+                        "'bearing-gym[ray]'); the rows are the same (default %(default)s)")
+    g.add_argument("--address", default=None, metavar="ADDR",
+                   help="with --backend ray: the Ray cluster: 'auto' (the cluster this node "
+                        "joined with 'ray start', or $RAY_ADDRESS), HOST:6379, or "
+                        "ray://HOST:10001 (Ray Client, from outside the cluster); every node "
+                        "needs the same bearing-gym install (default: start a local Ray "
+                        "instance with --workers CPUs, stopped at the end)")
+
+
 def _common(p: argparse.ArgumentParser) -> None:
     g = p.add_argument_group("general")
     g.add_argument("--config", metavar="FILE", default=None,
@@ -201,21 +220,7 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.Argument
                         "continuation chain (N, > 0; default: no refinement)")
     g.add_argument("--no-floquet", action="store_true",
                    help="skip the Floquet multipliers (faster; stability from the index only)")
-    g.add_argument("--workers", type=integer, default=min(2, os.cpu_count() or 1), metavar="N",
-                   help="parallel worker processes of the local backend, or CPUs of the local "
-                        "Ray instance of --backend ray without --address (>= 1; default "
-                        "%(default)d)")
-    g.add_argument("--backend", choices=("local", "ray"), default="local",
-                   help="where the tasks run: local = a pool of --workers processes on this "
-                        "machine; ray = Ray tasks, on a new local Ray instance or on the cluster "
-                        "at --address, one CPU per chain or cold start (needs pip install "
-                        "'bearing-gym[ray]'); the rows are the same (default %(default)s)")
-    g.add_argument("--address", default=None, metavar="ADDR",
-                   help="with --backend ray: the Ray cluster: 'auto' (the cluster this node "
-                        "joined with 'ray start', or $RAY_ADDRESS), HOST:6379, or "
-                        "ray://HOST:10001 (Ray Client, from outside the cluster); every node "
-                        "needs the same bearing-gym install (default: start a local Ray "
-                        "instance with --workers CPUs, stopped at the end)")
+    _execution_options(g, "one CPU per chain or cold start")
     g = p.add_argument_group("output")
     g.add_argument("--out", default="stability_map.csv", metavar="CSV",
                    help="CSV file of the points (columns of sweeps.COLUMNS; lengths in m); "
@@ -253,14 +258,7 @@ def build_parser() -> tuple[argparse.ArgumentParser, dict[str, argparse.Argument
     g.add_argument("--damping-ratio", type=number, default=d["damping_ratio"], metavar="ZETA",
                    help="viscous damping ratio on each rotor DOF (dimensionless, 0-1; default %(default)g)")
     g = p.add_argument_group("execution")
-    g.add_argument("--workers", type=integer, default=min(2, os.cpu_count() or 1), metavar="N",
-                   help="parallel worker processes, or CPUs of the local Ray instance (>= 1; default %(default)d)")
-    g.add_argument("--backend", choices=("local", "ray"), default="local",
-                   help="local = a pool of --workers processes; ray = one Ray task per operating point, on a "
-                        "local instance or the cluster at --address (pip install 'bearing-gym[ray]'); the rows "
-                        "are the same (default %(default)s)")
-    g.add_argument("--address", default=None, metavar="ADDR",
-                   help="with --backend ray: the cluster (auto, HOST:6379, ray://HOST:10001)")
+    _execution_options(g, "one task per operating point")
     g = p.add_argument_group("output")
     g.add_argument("--out", default="preload_map.csv", metavar="CSV", help="the map's rows (default %(default)s)")
     g.add_argument("--points", default=None, metavar="CSV",
