@@ -105,6 +105,8 @@ class LearnedGroup:
     dirs: list[str] = field(default_factory=list)
     shipped: bool = False
     train_wall_s: list[float | None] = field(default_factory=list)
+    #: a protocol-v2 early row: the best checkpoint up to this many env steps (None: the run's selection)
+    early_row_steps: int | None = None
 
     def row_name(self, tier: str) -> str:
         """The row's name on the board of ``tier`` (saying so where it was trained on another)."""
@@ -134,7 +136,8 @@ def learned_groups(model_dirs: list[str | Path], pretrained: bool,
         key = (algo, tier, shipped, early)
         if key not in groups:
             label = "shipped" if shipped else "trained" if early is None else f"trained, best up to {early // 1000}k steps"
-            groups[key] = LearnedGroup(f"{algo.upper()} ({label})", algo, tier, [], [], [], shipped=shipped)
+            groups[key] = LearnedGroup(f"{algo.upper()} ({label})", algo, tier, [], [], [], shipped=shipped,
+                                       early_row_steps=early)
         g = groups[key]
         try:
             g.policies.append(load_trained(d, algo=algo, portable=True))   # the same bits on every CPU
@@ -298,7 +301,8 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
         rows[g.row_name(tier)] = summarise("learned", runs, r0, r1, **reps, versus={"contextual constant": contextual_res},
                                  algo=g.algo, training_seeds=g.seeds,
                                  timesteps=g.timesteps, train_wall_s=g.train_wall_s, model_dirs=g.dirs,
-                                 headline=headline, inference=_inference(g.policies))
+                                 headline=headline, inference=_inference(g.policies),
+                                 early_row_steps=g.early_row_steps)
         if P.PROTOCOL_VERSION >= 2:
             want = P.V2_SEEDS if g.algo in P.V2_ALGORITHMS else None
         else:

@@ -21,7 +21,7 @@ import numpy as np
 
 from agents.leaderboard import scoring
 
-__all__ = ["tier_scores", "profiles", "plot", "main", "TAUS"]
+__all__ = ["tier_scores", "plotted", "profiles", "plot", "main", "TAUS"]
 
 #: the thresholds of the profiles: from a score of -1 (one gap below the validation constant) to
 #: 1.2 (past the upper reference)
@@ -52,6 +52,21 @@ def tier_scores(results: dict[str, Any], tier: str,
             for name, row in pol.items() if row.get("kind") in kinds and not name.startswith("planner")}
 
 
+def plotted(results: dict[str, Any], tier: str) -> dict[str, np.ndarray]:
+    """The rows the figure shows of ``tier`` (:func:`tier_scores`): every learned row at its
+    selected checkpoint (a protocol-v2 run's early row, ``early_row_steps``, stays in the table),
+    the best industry row by IQM, the model-based rows and the references but the validation
+    constant (0 by definition); submitted rows stay in the table too. Ten curves, not twenty."""
+    from agents.leaderboard.tables import best_of_kind
+    pol = results["tiers"][tier]["policies"]
+    best_industry = best_of_kind(pol, "industry")
+    keep = {name for name, row in pol.items()
+            if (row["kind"] == "learned" and row.get("early_row_steps") is None)
+            or row["kind"] in ("model-based", "reference") or name == best_industry}
+    return {k: v for k, v in tier_scores(results, tier).items()
+            if k in keep and not k.startswith("validation constant")}
+
+
 def profiles(scores: dict[str, np.ndarray], taus: np.ndarray = TAUS, reps: int = 2000,
              seed: int = scoring.BOOTSTRAP_SEED) -> tuple[dict[str, np.ndarray], dict[str, np.ndarray]]:
     """(name -> fraction of scores above each tau, name -> (2, len(taus)) 95 % band): rliable's
@@ -64,16 +79,14 @@ def profiles(scores: dict[str, np.ndarray], taus: np.ndarray = TAUS, reps: int =
 
 def plot(results: dict[str, Any], out: Path, tiers: list[str] | None = None, reps: int = 2000) -> Path:
     """One panel per tier (default: the board's random tiers, the benchmark's main tier first),
-    every row's profile and band (the validation constant, 0 by definition, left out); a row
-    keeps its colour across the panels."""
+    the profile and band of each row :func:`plotted` picks; a row keeps its colour across the panels."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     from bearing_gym.task import DEFAULT_TIER
     tiers = tiers or sorted((t for t, v in results["tiers"].items() if not v.get("deterministic")),
                             key=lambda t: (t != DEFAULT_TIER, t))
-    per_tier = {t: {k: v for k, v in tier_scores(results, t).items() if not k.startswith("validation constant")}
-                for t in tiers}
+    per_tier = {t: plotted(results, t) for t in tiers}
     names = list(dict.fromkeys(k.split(" - trained on")[0] for sc in per_tier.values() for k in sc))
     colours = {k: plt.get_cmap("tab10" if len(names) <= 10 else "tab20")(i) for i, k in enumerate(names)}
     fig, axes = plt.subplots(1, len(tiers), figsize=(5.2 * len(tiers), 4.6), squeeze=False, sharey=True)

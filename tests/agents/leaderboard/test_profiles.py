@@ -49,3 +49,17 @@ def test_pairwise_probabilities_are_complementary_and_see_dominance():
     back = pairwise_improvement({"b": b, "a": a}, r0, r1, poi_reps=200)
     assert out["a"]["b"][0] + back["b"]["a"][0] == pytest.approx(1.0, abs=1e-12)
     assert out["a"]["top"][0] == 0.0 and out["b"]["top"] == [0.0, 0.0, 0.0]
+
+
+def test_the_figure_shows_each_learned_rows_selection_the_best_industry_row_and_the_references():
+    res = _results()
+    pol = res["tiers"]["t"]["policies"]
+    ret = [[-6.0, -14.0, -30.0, -35.0]]
+    pol["A (trained, best up to 100k steps)"] = {"kind": "learned", "early_row_steps": 100_000, "episode_returns": ret}
+    pol["switch"] = {"kind": "industry", "normalised_score_iqm": 0.1, "episode_returns": ret}
+    pol["table"] = {"kind": "industry", "normalised_score_iqm": 0.3, "episode_returns": ret}
+    pol["causal MPC"] = {"kind": "model-based", "episode_returns": ret}
+    pol["someone's rule"] = {"kind": "submitted", "episode_returns": ret}
+    shown = profiles.plotted(res, "t")
+    assert set(shown) == {"hindsight constant (50 N grid)", "A (trained)", "table", "causal MPC"}
+    np.testing.assert_array_equal(shown["A (trained)"], profiles.tier_scores(res, "t")["A (trained)"])
