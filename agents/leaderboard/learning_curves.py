@@ -25,6 +25,7 @@ import numpy as np
 
 from bearing_gym.task import DEFAULT_TIER, EPISODE_STEPS
 
+from agents import protocol as P
 from agents.leaderboard import scoring
 from agents.references.store import STORE_PATH, load_choice
 
@@ -99,6 +100,10 @@ def plot(curves: dict[str, dict], path: str | Path, title: str = "") -> None:
         ax.fill_between(t, c["ci_low"], c["ci_high"], color=line.get_color(), alpha=0.2)
     ax.axhline(0.0, color="k", lw=0.8, ls="--")
     ax.axhline(1.0, color="k", lw=0.8, ls=":")
+    last = max((c["timesteps"][-1] for c in curves.values()), default=0)
+    if P.PROTOCOL_VERSION >= 2 and last > P.V2_EARLY_ROW_STEPS:     # the early rows' budget
+        ax.axvline(P.V2_EARLY_ROW_STEPS / 1000.0, color="0.5", lw=0.8, ls="-.")
+        ax.text(P.V2_EARLY_ROW_STEPS / 1000.0, 1.0, " early rows", fontsize=7, color="0.4", va="bottom")
     ax.set_xlabel("environment steps (thousands)")
     ax.set_ylabel("validation score (IQM, 95 % CI)")
     ax.set_title(title or "0 = validation-chosen constant, 1 = hindsight best constant", fontsize=9)
