@@ -27,7 +27,7 @@ from agents.references import causal_mpc_runs
 from agents.references.feedback_fit import feedback_path, load_feedback
 from agents.references.speed_schedule_fit import KINDS, schedule_path
 
-__all__ = ["industry_policies", "causal_mpc_row", "missing", "INDUSTRY_KIND", "MODEL_BASED_KIND"]
+__all__ = ["industry_policies", "causal_mpc_row", "missing", "not_the_protocols", "INDUSTRY_KIND", "MODEL_BASED_KIND"]
 
 INDUSTRY_KIND = "industry"
 MODEL_BASED_KIND = "model-based"
@@ -76,4 +76,33 @@ def missing(tier: str, episodes: int, episode_steps: int, data_dir: Path = DATA_
     if gone:
         out.append(f"causal MPC ({len(gone)} episodes): python -m agents.references.causal_mpc_runs --tier {tier} "
                    "--until HH:MM")
+    return out
+
+
+def not_the_protocols(tier: str, data_dir: Path = DATA_DIR, store: Path | None = None) -> list[str]:
+    """The tier's stored fits (present for this kernel, so rows of the board) that are not what
+    the protocol's fit would write today (other episodes, rounds, candidates, start - the
+    validation constant in ``store`` - or an older record): each named with its first problem.
+    Protocol-sized boards list them as deviations."""
+    from bearing_gym.task import EPISODE_STEPS
+
+    from agents import protocol as P
+    from agents.references import feedback_fit, speed_schedule_fit
+    out = []
+    for kind in KINDS:
+        path = schedule_path(tier, kind, data_dir)
+        if _fresh(path) is not None:
+            problems = speed_schedule_fit.fit_problems(
+                tier, kind, path, P.episodes_for_tier(tier, P.SCHEDULE_FIT_EPISODES), P.SCHEDULE_FIT_ROUNDS,
+                EPISODE_STEPS, store)
+            if problems:
+                out.append(f"speed schedule {kind} is not the protocol's fit ({problems[0]}): "
+                           f"python -m agents.references.speed_schedule_fit --tier {tier} --kind {kind}")
+    path = feedback_path(tier, data_dir)
+    if _fresh(path) is not None:
+        problems = feedback_fit.fit_problems(tier, path, P.episodes_for_tier(tier, P.V2_FEEDBACK_TUNE_EPISODES),
+                                             P.V2_FEEDBACK_TUNE_ROUNDS, EPISODE_STEPS)
+        if problems:
+            out.append(f"feedback rule is not the protocol's fit ({problems[0]}): "
+                       f"python -m agents.references.feedback_fit --tier {tier}")
     return out

@@ -87,8 +87,9 @@ from agents.leaderboard.upper import PLANNER_ROW, planner_row, require_planner_s
 __all__ = ["PLANNER_ROW", "LearnedGroup", "learned_groups", "run_tier", "summarise",
            "to_markdown", "main"]
 
-#: the row kinds compared pair by pair on a tier (results.json's pairwise_improvement)
-PAIRWISE_KINDS = ("learned", "industry")
+#: the row kinds compared pair by pair on a tier (results.json's pairwise_improvement); learned rows
+#: only with learned rows of the same budget (a protocol-v2 early row with the other early rows)
+PAIRWISE_KINDS = ("learned", "industry", "model-based")
 
 
 @dataclass
@@ -107,6 +108,8 @@ class LearnedGroup:
     train_wall_s: list[float | None] = field(default_factory=list)
     #: a protocol-v2 early row: the best checkpoint up to this many env steps (None: the run's selection)
     early_row_steps: int | None = None
+    #: the protocol each run trained under (train.py's config; 1 if it does not say)
+    protocols: list[int] = field(default_factory=list)
 
     def row_name(self, tier: str) -> str:
         """The row's name on the board of ``tier`` (saying so where it was trained on another)."""
@@ -147,7 +150,8 @@ def learned_groups(model_dirs: list[str | Path], pretrained: bool,
         g.seeds.append(cfg.get("seed"))
         g.timesteps.append(cfg.get("selected_timesteps", cfg.get("num_timesteps")))
         g.dirs.append(str(d))
-        g.train_wall_s.append(cfg.get("train_wall_s"))
+        g.train_wall_s.append(None if early else cfg.get("train_wall_s"))    # an early row: the run's is not its
+        g.protocols.append(cfg.get("protocol", 1))
 
     for d in model_dirs:
         add(Path(d), None, False)
@@ -297,7 +301,7 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
     for g in groups:                # also those trained on another tier, named so (row_name)
         runs = learned_res[k:k + len(g.policies)]
         k += len(g.policies)
-        headline = g.algo == P.HEADLINE_ALGORITHM and not g.shipped and g.tier == tier
+        headline = P.PROTOCOL_VERSION < 2 and g.algo == P.HEADLINE_ALGORITHM and not g.shipped and g.tier == tier
         rows[g.row_name(tier)] = summarise("learned", runs, r0, r1, **reps, versus={"contextual constant": contextual_res},
                                  algo=g.algo, training_seeds=g.seeds,
                                  timesteps=g.timesteps, train_wall_s=g.train_wall_s, model_dirs=g.dirs,
@@ -309,10 +313,13 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
             want = len(P.training_seeds(g.algo)) if g.algo in P.ALGORITHMS else None
         if not g.shipped and want is not None and len(g.policies) < want:
             deviations.append(f"{g.row_name(tier)}: {len(g.policies)} training seeds (the protocol: {want})")
-    # every pair of learned (and industry-practice) rows: which improves on which, paired by episode
-    compared = {name: np.asarray(row["episode_returns"]) for name, row in rows.items()
-                if row["kind"] in PAIRWISE_KINDS}
-    pairwise = pairwise_improvement(compared, r0, r1, s.poi_reps) if len(compared) > 1 else {}
+        other = sorted({v for v in g.protocols if v != P.PROTOCOL_VERSION})
+        if not g.shipped and other:
+            deviations.append(f"{g.row_name(tier)}: runs of protocol {', '.join(map(str, other))} "
+                              f"(the board's: {P.PROTOCOL_VERSION})")
+    if P.PROTOCOL_VERSION >= 2 and not s.smoke and s.protocol_sized(tier):
+        deviations += _missing_v2_rows(groups) + baselines.not_the_protocols(tier, contextual_dir, store)
+    pairwise = _pairwise(rows, r0, r1, s.poi_reps)
     if s.episodes < protocol_s.episodes:
         deviations.append(f"{s.episodes} test episodes (the protocol: {protocol_s.episodes})")
     upper, upper_deviations = upper_fields(refs, r0, r1, protocol_s.planner_settings())
@@ -337,6 +344,32 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
             "references": "stored (agents/data, checked against the validation constant run again)" if stored
             else "computed in this run",
             **upper, "policies": rows, "pairwise_improvement": pairwise, "wall_s": time.time() - t0}
+
+
+def _pairwise(rows: dict[str, dict], r0: np.ndarray, r1: np.ndarray, poi_reps: int) -> dict[str, dict[str, list[float]]]:
+    """Every pair of the rows of PAIRWISE_KINDS, paired by episode: the industry and model-based rows
+    with each other and with every learned row, learned rows with the learned rows of their own
+    budget (``early_row_steps``: the selected checkpoints together, the early rows together)."""
+    fixed = {n: np.asarray(r["episode_returns"]) for n, r in rows.items() if r["kind"] in PAIRWISE_KINDS
+             and r["kind"] != "learned"}
+    budgets = dict.fromkeys(r.get("early_row_steps") for r in rows.values() if r["kind"] == "learned")
+    out: dict[str, dict[str, list[float]]] = {}
+    for budget in budgets or [None]:
+        compared = {**fixed, **{n: np.asarray(r["episode_returns"]) for n, r in rows.items()
+                                if r["kind"] == "learned" and r.get("early_row_steps") == budget}}
+        if len(compared) > 1:
+            for a, versus in pairwise_improvement(compared, r0, r1, poi_reps).items():
+                out.setdefault(a, {}).update(versus)
+    return out
+
+
+def _missing_v2_rows(groups: list[LearnedGroup]) -> list[str]:
+    """Protocol v2's learned rows that no run gives: per algorithm its selected checkpoint's row
+    and its early row (runs trained on the board's tiers or not)."""
+    have = {(g.algo, g.early_row_steps) for g in groups if not g.shipped}
+    return [f"{algo.upper()}: no {'early row' if early else 'trained run'} (protocol v2's runs: "
+            f"python -m agents.training.protocol_runs --protocol 2 --list)"
+            for algo in P.V2_ALGORITHMS for early in (None, P.V2_EARLY_ROW_STEPS) if (algo, early) not in have]
 
 
 def build_parser() -> argparse.ArgumentParser:

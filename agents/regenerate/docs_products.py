@@ -7,6 +7,7 @@ the integrator's accuracy and the paper's reproduction. Declared as in
 from __future__ import annotations
 
 import functools
+from pathlib import Path
 
 from bearing_gym.task import DEFAULT_TIER, EPISODE_STEPS
 
@@ -29,6 +30,13 @@ __all__ = ["docs_products", "BOOTSTRAP_REP_S"]
 BOOTSTRAP_REP_S = 1e-3
 
 
+
+def _row_of(run_dir: str) -> tuple[str, bool]:
+    """The board row a run directory joins: (its algorithm's directory, whether it is an early row
+    ``.../seed_<s>/by_<steps>``)."""
+    p = Path(run_dir)
+    return (p.parent.parent.name, True) if p.name.startswith("by_") else (p.parent.name, False)
+
 def _board(prof: Profile, L) -> list[Product]:
     s = prof.board
     store, oracle = L.data / "reference_constants.json", L.data / "oracle_table.csv"
@@ -40,7 +48,7 @@ def _board(prof: Profile, L) -> list[Product]:
     command = f"python -m agents.leaderboard --tier TIER --model {models} --stored-references --keep-other-tiers"
     commit = functools.partial(B.commit_board_tier, out, prof.name, command, (s.bootstrap_reps, s.poi_reps),
                                data_dir=L.data)
-    rows = 5 + len({d.split("/")[-2] for d in prof.model_dirs})
+    rows = 5 + len({_row_of(d) for d in prof.model_dirs})     # the references, one per algorithm and budget
     parts = tuple(Part(f"tier_{t}", B.board_tier, (t, s, prof.model_dirs, store, L.data, oracle),
                        env_cost(prof.board_for(t).episodes, s.episode_steps, 3 + len(prof.model_dirs))
                        + rows * s.bootstrap_reps * BOOTSTRAP_REP_S, commit) for t in prof.tiers)
@@ -121,7 +129,8 @@ def _figures(prof: Profile, L) -> list[Product]:
                                  60.0),),
                            upstream=(f"validation:{DEFAULT_TIER}",), kernel=False,
                            sources=tuple(B.CHECKOUT / d for d in prof.learning_curves),
-                           command="python -m agents.leaderboard.learning_curves agents/trained/*/seed_*"))
+                           command="python -m agents.leaderboard.learning_curves "
+                                   + ("agents/trained/*/seed_*" if P.PROTOCOL_VERSION < 2 else "agents/trained_v2/*/seed_*")))
     if DEFAULT_TIER in prof.tiers:
         t = prof.traces
         png = L.docs / "evaluation_traces.png"

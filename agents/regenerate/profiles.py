@@ -60,7 +60,7 @@ class Profile:
     learning_curves: tuple[str, ...] | None
     bench_accuracy: bool
     reproduction: bool
-    breakdown_row: str = "SAC"
+    breakdown_row: str = "SAC (trained)"
     #: the open board's worked examples (examples/*.py) scored and shown beside the board's rows
     #: (they read the checkout's stored references, so the full profile only)
     examples: bool = False

@@ -48,12 +48,15 @@ from agents.submit.rows import CONTEXTUAL, submitted_row, test_references
 
 __all__ = ["FORMAT", "FORMAT_VERSION", "SubmissionRefused", "make_submission", "write_submission",
            "load_submission", "check_schema", "check_submission", "add_submission", "runs_of", "row_name",
-           "store_dir", "stored_path", "readd_stored", "reporting_gaps", "MIN_TRAINING_SEEDS"]
+           "store_dir", "stored_path", "readd_stored", "reporting_gaps", "MIN_TRAINING_SEEDS",
+           "STEP_BUDGET"]
 
 FORMAT = "bearing-gym-submission"
 #: training seeds the rules ask a submission to report (docs/benchmark.md; the protocol's own
 #: non-headline algorithms run this many)
-MIN_TRAINING_SEEDS = P.OTHER_SEEDS
+MIN_TRAINING_SEEDS = P.OTHER_SEEDS if P.PROTOCOL_VERSION < 2 else P.V2_SEEDS
+#: the protocol's env steps per training run (a submission beyond it is noted beside its row)
+STEP_BUDGET = P.STEP_BUDGET_PER_RUN if P.PROTOCOL_VERSION < 2 else P.V2_STEP_BUDGET_PER_RUN
 FORMAT_VERSION = 1
 SUFFIX = " (submitted)"
 
@@ -252,8 +255,8 @@ def reporting_gaps(sub: dict[str, Any]) -> list[str]:
     steps = sub.get("training_steps")
     if steps is None:
         gaps.append("no training budget stated")
-    elif steps > P.STEP_BUDGET_PER_RUN:
-        gaps.append(f"{steps:,} env steps of training (the protocol's budget: {P.STEP_BUDGET_PER_RUN:,})")
+    elif steps > STEP_BUDGET:
+        gaps.append(f"{steps:,} env steps of training (the protocol's budget: {STEP_BUDGET:,})")
     if not sub.get("code"):
         gaps.append("no link to its code")
     if not sub.get("library"):

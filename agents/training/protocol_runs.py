@@ -268,8 +268,9 @@ def main(argv: list[str] | None = None) -> int:
     g.add_argument("--ship", action="store_true", help="copy each algorithm's best run to agents/pretrained/")
     ap.add_argument("--run", type=int, default=0, help="run index (0 .. seeds-1) with --algo")
     ap.add_argument("--threads", type=int, help="numba threads per run (train.py --threads; default one per env, at most the cores)")
-    ap.add_argument("--protocol", type=int, choices=(1, 2), default=1,
-                    help="1: the committed board's runs (agents/trained/); 2: protocol v2's (agents/trained_v2/)")
+    ap.add_argument("--protocol", type=int, choices=(1, 2), default=P.PROTOCOL_VERSION,
+                    help="1: protocol v1's runs (agents/trained/); 2: protocol v2's (agents/trained_v2/) "
+                         "(default %(default)s, the board's)")
     a = ap.parse_args(argv)
     v2 = a.protocol >= 2
     runs = RUNS_V2 if v2 else RUNS
@@ -302,9 +303,9 @@ def main(argv: list[str] | None = None) -> int:
             return 0
         train_run(*free[0], **kw)
         return 0
-    seeds = P.v2_training_seeds() if v2 else P.training_seeds(a.algo)
     if v2 and a.algo not in P.V2_ALGORITHMS or not v2 and a.algo not in P.ALGORITHMS:
         raise SystemExit(f"--algo {a.algo} is not one of protocol {a.protocol}'s algorithms")
+    seeds = P.v2_training_seeds() if v2 else P.training_seeds(a.algo)
     if not 0 <= a.run < len(seeds):
         raise SystemExit(f"--run must be in 0..{len(seeds) - 1} for {a.algo}")
     train_run(a.algo, seeds[a.run], **kw)

@@ -41,7 +41,9 @@ def test_smoke_leaderboard_writes_every_row_with_its_statistics(tmp_path):
     out = tmp_path / "lb" / "results.json"
     leaderboard.main(["--smoke", "--out", str(out), "--model", *runs])
     data = json.loads(out.read_text())
-    assert data["mode"] == "smoke" and data["protocol"]["step_budget_chosen_from_throughput"] is True
+    from agents import protocol as P
+    from agents.leaderboard.results_file import protocol_summary
+    assert data["mode"] == "smoke" and data["protocol"] == protocol_summary(P.PROTOCOL_VERSION)
     tier = data["tiers"]["transient"]
     assert not tier["protocol"] and tier["protocol_deviations"][0].startswith("smoke run")
     rows = tier["policies"]
@@ -260,3 +262,50 @@ def test_stored_industry_fits_and_causal_mpc_runs_become_rows_compared_pairwise(
     pair = tier["pairwise_improvement"]["speed switch (2 levels) (fitted on training seeds)"]
     p, lo, hi = pair["feedback rule (tuned on validation seeds)"]
     assert 0.0 <= lo <= p <= hi <= 1.0
+
+
+def test_learned_rows_are_compared_with_the_learned_rows_of_their_own_budget():
+    """Protocol v2's early rows (the best checkpoint up to 100k steps) are compared with each other,
+    the selected checkpoints with each other, and both with every industry and model-based row;
+    never an early row with another algorithm's selected checkpoint."""
+    rng = np.random.default_rng(0)
+    r0, r1 = np.full(6, -100.0), np.full(6, -50.0)
+
+    def row(kind, early=None):
+        return {"kind": kind, "early_row_steps": early, "episode_returns": rng.normal(-75, 10, (2, 6)).tolist()}
+
+    rows = {"ref": row("reference"), "switch": row("industry"), "MPC": row("model-based"),
+            "A": row("learned"), "B": row("learned"), "A 100k": row("learned", 100_000), "B 100k": row("learned", 100_000)}
+    out = leaderboard._pairwise(rows, r0, r1, poi_reps=50)
+    pairs = {frozenset((a, b)) for a, vs in out.items() for b in vs}
+    assert pairs == {frozenset(p) for p in [("switch", "MPC"), ("switch", "A"), ("switch", "B"), ("MPC", "A"),
+                                            ("MPC", "B"), ("A", "B"), ("switch", "A 100k"), ("switch", "B 100k"),
+                                            ("MPC", "A 100k"), ("MPC", "B 100k"), ("A 100k", "B 100k")]}
+    from agents.leaderboard.tables import pairwise_improvement
+    alone = pairwise_improvement({k: np.asarray(rows[k]["episode_returns"]) for k in ("switch", "MPC", "A", "B")},
+                                 r0, r1, poi_reps=50)
+    assert out["A"]["B"] == alone["A"]["B"] and out["switch"]["A"] == alone["switch"]["A"]
+
+
+def test_protocol_v2_names_every_learned_row_no_run_gives():
+    from agents import protocol as P
+    g = leaderboard.LearnedGroup("SAC (trained)", "sac", "transient", [], [], [])
+    missing = leaderboard._missing_v2_rows([g])
+    assert len(missing) == 2 * len(P.V2_ALGORITHMS) - 1
+    assert "SAC: no early row" in missing[0] and not any(m.startswith("SAC: no trained run") for m in missing)
+
+
+def test_a_stored_fit_that_is_not_the_protocols_is_named_with_its_command(tmp_path):
+    """A fit of this kernel is a row, but one whose record is not what the protocol's fit writes
+    (here: tuned on 3 episodes, an older record without candidates) is a deviation naming the refit."""
+    from agents.leaderboard import baselines
+    from agents.references.feedback_fit import feedback_path
+    from bearing_gym.envs.provenance import kernel_hash
+    rule = {"start_n": 1500.0, "raise_n": 100.0, "lower_n": 5.0, "hold_steps": 5}
+    feedback_path("transient", tmp_path).write_text(json.dumps(
+        {"rule": rule, "kernel_hash": kernel_hash(), "tier": "transient", "seeds": [50000, 50002]}))
+    assert len(baselines.industry_policies("transient", tmp_path)) == 1
+    problems = baselines.not_the_protocols("transient", tmp_path)
+    assert len(problems) == 1 and problems[0].startswith("feedback rule is not the protocol's fit (seeds: stored")
+    assert problems[0].endswith("python -m agents.references.feedback_fit --tier transient")
+    assert baselines.not_the_protocols("stationary", tmp_path) == []          # nothing stored: missing(), not this
