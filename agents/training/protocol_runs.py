@@ -34,8 +34,9 @@ files stay in the work directory).
 
 ``--ship`` copies, per algorithm, the run with the best validation return of its selected
 checkpoint (validation episodes only: the test seeds choose nothing) to
-``agents/pretrained/<algo>/`` (model.zip + vec_normalize.pkl + config.json), the shipped
-policies of ``python -m agents.leaderboard --pretrained`` and of the main job.
+``agents/pretrained/<algo>/`` (model.zip + vec_normalize.pkl + config.json; protocol 2: the
+portable export and config, with the SB3 files from the work directory where they still are:
+:func:`ship_v2`), the shipped policies of ``python -m agents.leaderboard --pretrained`` and of the main job.
 """
 
 from __future__ import annotations
@@ -55,7 +56,8 @@ from agents import protocol as P
 from agents.paths import PRETRAINED_DIR, TRAINED_DIR, TRAINED_V2_DIR, checkout_root, require_checkout, runs_dir, start_bank_path
 
 
-__all__ = ["RUNS", "run_dir", "collected_dir", "is_done", "is_running", "best_checkpoint", "run_summary", "train_run", "collect", "ship", "main"]
+__all__ = ["RUNS", "run_dir", "collected_dir", "is_done", "is_running", "best_checkpoint", "run_summary", "train_run", "collect", "ship",
+           "ship_v2", "main"]
 
 ROOT = checkout_root()             # None in an installed package: the protocol runs need a checkout
 WORK_DIR = runs_dir("protocol")
@@ -258,6 +260,37 @@ def ship(trained_dir: Path = TRAINED_DIR, pretrained_dir: Path = PRETRAINED_DIR)
     return shipped
 
 
+def ship_v2(trained_dir: Path = TRAINED_DIR_V2, work_dir: Path | None = None,
+            pretrained_dir: Path = PRETRAINED_DIR) -> dict[str, Path]:
+    """Protocol v2's shipped policies: per algorithm, the collected run with the best validation
+    return of its selected checkpoint (validation episodes only), copied to
+    ``pretrained_dir/<algo>/``: its portable export and config, and its SB3 files (model.zip,
+    vec_normalize.pkl) from the run's work directory where this machine still has them. A shipped
+    directory keeps no SB3 file of another run (the portable export would no longer be current)."""
+    work_dir = WORK_DIR_V2 if work_dir is None else work_dir
+    shipped = {}
+    for algo in P.V2_ALGORITHMS:
+        runs = {d: b for d in sorted((trained_dir / algo).glob("seed_*")) if (b := best_checkpoint(d)) is not None}
+        if not runs:
+            continue
+        best = max(runs, key=lambda d: runs[d]["mean_validation_return"])
+        dst = pretrained_dir / algo
+        dst.mkdir(parents=True, exist_ok=True)
+        for name in ("portable_policy.npz", "config.json"):
+            shutil.copyfile(best / name, dst / name)
+        src = work_dir / f"{algo}_s{json.loads((best / 'config.json').read_text())['seed']}"
+        sb3 = [name for name in ("model.zip", "vec_normalize.pkl") if (src / name).exists()]
+        for name in ("model.zip", "vec_normalize.pkl"):
+            if name in sb3 and len(sb3) == 2:
+                shutil.copyfile(src / name, dst / name)
+            else:
+                (dst / name).unlink(missing_ok=True)
+        shipped[algo] = best
+        print(f"{algo}: shipped {best} -> {dst}" + ("" if len(sb3) == 2 else " (portable export only: its SB3 files "
+                                                   f"are not in {src})"))
+    return shipped
+
+
 def main(argv: list[str] | None = None) -> int:
     ap = argparse.ArgumentParser(description="The leaderboard's training runs, one per command.")
     g = ap.add_mutually_exclusive_group(required=True)
@@ -288,9 +321,7 @@ def main(argv: list[str] | None = None) -> int:
         print(f"protocol {a.protocol}: budget {budget:,} env steps per run")
         return 0
     if a.ship:
-        if v2:
-            raise SystemExit("--ship: protocol 2's shipped policies are chosen when its board is built")
-        ship()
+        ship_v2() if v2 else ship()
         return 0
     if a.next:
         todo = [(algo, seed) for algo, _, seed in runs if not is_done(algo, seed, trained, budget)]

@@ -132,3 +132,27 @@ def test_protocol_v2_runs_are_its_algorithms_and_seeds_at_its_budget_on_the_bank
     monkeypatch.setattr(P, "V2_START_BANK_STARTS", n + 1)
     with pytest.raises(SystemExit, match=f"start bank of {n + 1} starts; .* holds {n}"):
         T.check_v2_bank()
+
+
+def test_ship_v2_takes_the_best_validation_run_and_leaves_no_other_runs_sb3_files(tmp_path):
+    """Protocol v2: the shipped directory gets the best run's portable export and config, its SB3
+    files from the work directory where they are, and none of an earlier policy's (else the
+    portable export would not be current for the model files beside it)."""
+    trained, work, pretrained = tmp_path / "trained_v2", tmp_path / "work", tmp_path / "pretrained"
+    for algo, seed, ret in (("sac", 0, -80.0), ("sac", 1000, -60.0), ("tqc", 0, -50.0)):
+        d = T.collected_dir(algo, seed, trained)
+        (d / "eval").mkdir(parents=True)
+        (d / "portable_policy.npz").write_bytes(f"{algo}{seed}".encode())
+        (d / "config.json").write_text(json.dumps({"algo": algo, "seed": seed}))
+        (d / "eval" / "best.json").write_text(json.dumps({"mean_validation_return": ret, "num_timesteps": 10}))
+    (work / "sac_s1000").mkdir(parents=True)
+    for name in ("model.zip", "vec_normalize.pkl"):
+        (work / "sac_s1000" / name).write_bytes(b"sac1000 " + name.encode())
+    (pretrained / "tqc").mkdir(parents=True)
+    (pretrained / "tqc" / "model.zip").write_bytes(b"an earlier tqc")       # a stale SB3 file
+    shipped = T.ship_v2(trained, work, pretrained)
+    assert shipped == {"sac": T.collected_dir("sac", 1000, trained), "tqc": T.collected_dir("tqc", 0, trained)}
+    assert (pretrained / "sac" / "portable_policy.npz").read_bytes() == b"sac1000"
+    assert (pretrained / "sac" / "model.zip").read_bytes() == b"sac1000 model.zip"
+    assert (pretrained / "tqc" / "portable_policy.npz").read_bytes() == b"tqc0"
+    assert not (pretrained / "tqc" / "model.zip").exists() and not (pretrained / "tqc" / "vec_normalize.pkl").exists()
