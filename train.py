@@ -93,7 +93,9 @@ def build_parser() -> argparse.ArgumentParser:
                          f"test {TEST.start}..)")
     ap.add_argument("--select", choices=("best", "last"), default="best",
                     help="model.zip = the best validation checkpoint or the final weights")
-    ap.add_argument("--checkpoint-freq", type=int, default=6000, help="checkpoint period in environment steps")
+    ap.add_argument("--checkpoint-freq", type=int, default=None,
+                    help="checkpoint period in environment steps (default: --eval-freq, so that every validated "
+                         "checkpoint can be restored when a resumed run drops validations made after its checkpoint)")
     ap.add_argument("--resume", action="store_true", help="continue from the newest checkpoint in --out")
     ap.add_argument("--start-bank", metavar="NPZ|auto|none",
                     help="where training's settled starts come from. auto (default): the start bank shipped for "
@@ -264,10 +266,10 @@ def main(argv: list[str] | None = None) -> int:
         raise SystemExit(f"train.py: --val-seed {args.val_seed} overlaps the held-out test seeds "
                          f"{TEST_SEED}..{TEST_SEED + max(args.eval_episodes, 1) - 1}; pick another")
     import torch
-    from stable_baselines3.common.callbacks import CallbackList, CheckpointCallback
+    from stable_baselines3.common.callbacks import CallbackList
     from stable_baselines3.common.vec_env import VecNormalize
 
-    from agents.training.callbacks import BEST_INFO, BEST_MODEL, BEST_VECNORMALIZE, ProgressBar, ProgressLines, ValidationCallback, planned_timesteps
+    from agents.training.callbacks import BEST_INFO, BEST_MODEL, BEST_VECNORMALIZE, ProgressBar, ProgressLines, ResumePoints, ValidationCallback, planned_timesteps, restore_selection
 
     torch.set_num_threads(1)          # the environment kernel uses the cores
     out = Path(args.out)
@@ -298,6 +300,7 @@ def main(argv: list[str] | None = None) -> int:
     if args.resume and latest:
         last = latest[-1]
         steps = checkpoint_steps(last)
+        restore_selection(out / "eval", ckpt_dir, steps, args.snapshot_at)
         env = VecNormalize.load(str(ckpt_dir / f"model_vecnormalize_{steps}_steps.pkl"), env)
         model = algo_cls.load(last, env=env, device="cpu")
         print(f"resuming from {last} ({steps} steps)")
@@ -334,8 +337,8 @@ def main(argv: list[str] | None = None) -> int:
                            progress_every_s=PROGRESS_EVERY_S, snapshot_at=args.snapshot_at,
                            eval_freq=max(1, args.eval_freq // per_env), best_model_save_path=str(out / "eval"),
                            log_path=str(out / "eval"), deterministic=True),
-        CheckpointCallback(save_freq=max(1, args.checkpoint_freq // per_env), save_path=str(ckpt_dir),
-                           name_prefix="model", save_vecnormalize=True, save_replay_buffer=off_policy),
+        ResumePoints(save_freq=max(1, (args.checkpoint_freq or args.eval_freq) // per_env), save_path=str(ckpt_dir),
+                     name_prefix="model", save_vecnormalize=True, save_replay_buffer=off_policy),
     ])
     # SB3 counts total_timesteps on top of num_timesteps when it does not reset them
     remaining = args.timesteps - model.num_timesteps if resumed else args.timesteps

@@ -70,7 +70,7 @@ from agents import protocol as P
 from agents.policies.contextual import DATA_DIR, ContextualConstant, contextual_path
 from agents.references.contextual_fit import fit_contextual
 from agents.leaderboard import baselines
-from agents.leaderboard.tables import pairwise_improvement, summarise, to_markdown
+from agents.leaderboard.tables import best_of_kind, pairwise_improvement, summarise, to_markdown
 from agents.evaluation.trained import PRETRAINED_DIR, SB3Policy, load_trained, shipped_dirs
 from agents.evaluation.episodes import hindsight_preloads, run_policies, sweep_row
 from agents.policies.oracle import TABLE_PATH as ORACLE_TABLE, MapOracle
@@ -343,7 +343,8 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
                                     "episode_steps": choice.episode_steps},
             "references": "stored (agents/data, checked against the validation constant run again)" if stored
             else "computed in this run",
-            **upper, "policies": rows, "pairwise_improvement": pairwise, "wall_s": time.time() - t0}
+            **upper, "policies": rows, "pairwise_improvement": pairwise,
+            "best_industry_row": best_of_kind(rows, baselines.INDUSTRY_KIND), "wall_s": time.time() - t0}
 
 
 def _pairwise(rows: dict[str, dict], r0: np.ndarray, r1: np.ndarray, poi_reps: int) -> dict[str, dict[str, list[float]]]:

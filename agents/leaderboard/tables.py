@@ -128,7 +128,7 @@ def _statistics(t: dict[str, Any]) -> list[str]:
     if not rows:
         return []
     pairwise = t.get("pairwise_improvement", {})
-    industry = best_of_kind(t["policies"], "industry")
+    industry = t.get("best_industry_row", best_of_kind(t["policies"], "industry"))
     lines = ["Beyond the IQM (rliable, 95 % intervals as above): the mean normalised score, the optimality gap "
              "(the mean shortfall below 1, a score above 1 counting as 1: lower is better)"
              + (f" and P(> best industry): the probability of improvement over the best industry row by IQM, "

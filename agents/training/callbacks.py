@@ -27,11 +27,11 @@ import time
 from pathlib import Path
 
 import numpy as np
-from stable_baselines3.common.callbacks import BaseCallback, EvalCallback, ProgressBarCallback
+from stable_baselines3.common.callbacks import BaseCallback, CheckpointCallback, EvalCallback, ProgressBarCallback
 
 
-__all__ = ["ValidationCallback", "ProgressLines", "ProgressBar", "planned_timesteps",
-           "BEST_MODEL", "BEST_VECNORMALIZE", "BEST_INFO"]
+__all__ = ["ValidationCallback", "ResumePoints", "restore_selection", "ProgressLines", "ProgressBar",
+           "planned_timesteps", "BEST_MODEL", "BEST_VECNORMALIZE", "BEST_INFO"]
 
 BEST_MODEL = "best_model.zip"
 BEST_VECNORMALIZE = "best_vec_normalize.pkl"
@@ -177,6 +177,73 @@ class ValidationCallback(EvalCallback):
             done = int(np.sum(locals_["episode_counts"]))
             print(f"validation: {done}/{self.n_eval_episodes} episodes done (the running ones at step "
                   f"{int(np.max(locals_['current_lengths']))}), {now - self._val_t0:.0f} s", flush=True)
+
+
+def restore_selection(eval_dir: Path, checkpoint_dir: Path, resume_step: int, snapshot_at: int | None = None) -> None:
+    """Make a run's validation record what it was at its checkpoint of ``resume_step``, before a
+    resumed session continues from there: the validations made after it (by the stopped session,
+    on a trajectory now discarded) are dropped from ``evaluations.npz`` and ``validation_returns.npz``;
+    a selected checkpoint from after it is replaced by the best validation kept (the first on a
+    tie, as :class:`ValidationCallback` selects), restored from its checkpoint files
+    (``model_<steps>_steps.zip`` and its VecNormalize statistics: train.py checkpoints at every
+    validation by default, so each has them; RuntimeError if they are gone); an early-row copy
+    (``by_<snapshot_at>``) made after ``resume_step`` is removed, to be made again."""
+    eval_dir, checkpoint_dir = Path(eval_dir), Path(checkpoint_dir)
+    history = eval_dir / "evaluations.npz"
+    means: list[tuple[int, float]] = []
+    if history.exists():
+        with np.load(history) as log:
+            data = {k: log[k] for k in log.files}
+        keep = data["timesteps"] <= resume_step
+        np.savez(history, **{k: v[keep] for k, v in data.items()})
+        means = [(int(t), float(np.mean(r))) for t, r in zip(data["timesteps"][keep], data["results"][keep])]
+    per_seed = eval_dir / "validation_returns.npz"
+    if per_seed.exists():
+        with np.load(per_seed) as log:
+            data = {k: log[k] for k in log.files}
+        keep = data["timesteps"] <= resume_step
+        np.savez(per_seed, timesteps=data["timesteps"][keep], seeds=data["seeds"], returns=data["returns"][keep])
+    if snapshot_at is not None and resume_step < snapshot_at:
+        shutil.rmtree(eval_dir / f"by_{snapshot_at}", ignore_errors=True)
+    info_path = eval_dir / BEST_INFO
+    if not info_path.exists():
+        return
+    info = json.loads(info_path.read_text())
+    if info["num_timesteps"] <= resume_step:
+        return
+    for name in (BEST_MODEL, BEST_VECNORMALIZE, BEST_INFO):
+        (eval_dir / name).unlink(missing_ok=True)
+    if not means:
+        return
+    step, mean = means[int(np.argmax([m for _, m in means]))]
+    model = checkpoint_dir / f"model_{step}_steps.zip"
+    stats = checkpoint_dir / f"model_vecnormalize_{step}_steps.pkl"
+    if not (model.exists() and stats.exists()):
+        raise RuntimeError(f"resuming from {resume_step:,} steps: the selected checkpoint was validated after it, "
+                           f"and the best validation kept ({step:,} steps) has no checkpoint in {checkpoint_dir} to "
+                           "restore it from; train the run afresh (without --resume), with --checkpoint-freq equal to "
+                           "--eval-freq (the default)")
+    shutil.copyfile(model, eval_dir / BEST_MODEL)
+    shutil.copyfile(stats, eval_dir / BEST_VECNORMALIZE)
+    info.update(mean_validation_return=mean, num_timesteps=step)
+    info_path.write_text(json.dumps(info, indent=2))
+    print(f"resuming from {resume_step:,} steps: the selected checkpoint restored to {step:,} steps (validation "
+          f"return {mean:.1f}); the later validations were on the discarded trajectory", flush=True)
+
+
+class ResumePoints(CheckpointCallback):
+    """SB3's ``CheckpointCallback`` that keeps only the newest replay buffer (each is the whole
+    buffer, tens of MB late in a run; a resume needs the newest) beside every model checkpoint (small;
+    kept, so that :func:`restore_selection` can restore any validated checkpoint)."""
+
+    def _on_step(self) -> bool:
+        keep_going = super()._on_step()
+        if self.save_replay_buffer and self.n_calls % self.save_freq == 0:
+            buffers = sorted(Path(self.save_path).glob(f"{self.name_prefix}_replay_buffer_*_steps.pkl"),
+                             key=lambda f: int(f.stem.split("_")[-2]))
+            for old in buffers[:-1]:
+                old.unlink(missing_ok=True)
+        return keep_going
 
 
 def planned_timesteps(model, total_timesteps: int) -> int:

@@ -259,6 +259,8 @@ def test_stored_industry_fits_and_causal_mpc_runs_become_rows_compared_pairwise(
                          env_kwargs={"tier": "transient"})
     assert rows["speed switch (2 levels) (fitted on training seeds)"]["episode_returns"] == [alone[0].returns.tolist()]
     assert rows["feedback rule (tuned on validation seeds)"]["episode_returns"] == [alone[1].returns.tolist()]
+    iqm = {name: rows[name]["normalised_score_iqm"] for name in rows if rows[name]["kind"] == "industry"}
+    assert tier["best_industry_row"] == max(iqm, key=iqm.get)
     pair = tier["pairwise_improvement"]["speed switch (2 levels) (fitted on training seeds)"]
     p, lo, hi = pair["feedback rule (tuned on validation seeds)"]
     assert 0.0 <= lo <= p <= hi <= 1.0
