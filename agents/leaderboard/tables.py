@@ -136,7 +136,9 @@ def _statistics(t: dict[str, Any]) -> list[str]:
              "| policy | IQM [95 % CI] | mean [95 % CI] | optimality gap [95 % CI] | P(> best industry) [95 % CI] |",
              "|---|---|---|---|---|"]
     for name, r in rows:
-        versus = improvement(pairwise, name, industry) if industry and name != industry else None
+        versus = None
+        if industry and name != industry:      # from the pairwise set, or a submitted row's own comparison
+            versus = improvement(pairwise, name, industry) or r.get("poi_over", {}).get(industry)
         lines.append(f"| {name} | {_interval(r['normalised_score_iqm'], r.get('ci_low'), r.get('ci_high'))} "
                      f"| {_interval(r.get('normalised_score_mean'), r.get('mean_ci_low'), r.get('mean_ci_high'))} "
                      f"| {_interval(r.get('optimality_gap'), r.get('optimality_gap_ci_low'), r.get('optimality_gap_ci_high'))} "

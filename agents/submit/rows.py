@@ -40,15 +40,20 @@ def test_references(tier: str, episodes: int, references_dir: Path = DATA_DIR) -
 
 
 def submitted_row(results: list[EvalResult], contextual_returns: np.ndarray, refs: StoredReferences,
-                  bootstrap_reps: int, poi_reps: int, **extra: Any) -> dict[str, Any]:
+                  bootstrap_reps: int, poi_reps: int, versus: dict[str, np.ndarray] | None = None,
+                  **extra: Any) -> dict[str, Any]:
     """A submitted row of a board's tier: ``results`` (one per training seed, on the references'
     test episodes) scored against ``refs`` as the board scores a learned row (normalised-score
     IQM and intervals, the share above 1, the probabilities of improvement over the validation
-    and the contextual constant, the physical metrics, every return), marked ``"submitted"``.
+    and the contextual constant - and over each of ``versus``, other rows' returns (runs x episodes)
+    on the same episodes, e.g. the board's best industry row -, the physical metrics, every
+    return), marked ``"submitted"``.
     The same function builds the row when the API scores a policy and when a submission file
     joins a board."""
     r0, r1 = score_bounds(refs)
     contextual = EvalResult(CONTEXTUAL, np.asarray(contextual_returns, dtype=np.float64).reshape(-1), {},
                             np.zeros(0), np.zeros(0))
+    others = {name: EvalResult(name, np.atleast_2d(np.asarray(ret, dtype=np.float64)), {}, np.zeros(0), np.zeros(0))
+              for name, ret in (versus or {}).items()}
     return summarise("submitted", results, r0, r1, bootstrap_reps=bootstrap_reps, poi_reps=poi_reps,
-                     versus={CONTEXTUAL: contextual}, **extra)
+                     versus={CONTEXTUAL: contextual, **others}, **extra)

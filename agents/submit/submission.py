@@ -238,9 +238,11 @@ def add_submission(sub: dict[str, Any], board: dict[str, Any], references_dir: P
     stats = board["statistics"]
     meta = {k: sub.get(k) for k in ("algorithm", "training_steps", "training_seeds", "library", "library_version",
                                     "code", "notes", "created")}
+    industry = t.get("best_industry_row")      # the board's best industry row: P(> best industry) as for its own rows
     row = submitted_row(runs_of(sub), np.asarray(t["policies"][CONTEXTUAL]["episode_returns"][0], dtype=np.float64),
-                        refs, stats["bootstrap_reps"], stats["poi_reps"], n_runs=len(sub["runs"]), **meta,
-                        submission_notes=reporting_gaps(sub))
+                        refs, stats["bootstrap_reps"], stats["poi_reps"],
+                        versus={industry: t["policies"][industry]["episode_returns"]} if industry else None,
+                        n_runs=len(sub["runs"]), **meta, submission_notes=reporting_gaps(sub))
     t["policies"][name] = row
     return name, row
 
