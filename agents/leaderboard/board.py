@@ -57,7 +57,6 @@ import dataclasses
 import json
 import sys
 import time
-from dataclasses import dataclass, field
 from pathlib import Path
 from typing import Any
 
@@ -70,8 +69,9 @@ from agents import protocol as P
 from agents.policies.contextual import DATA_DIR, ContextualConstant, contextual_path
 from agents.references.contextual_fit import fit_contextual
 from agents.leaderboard import baselines
-from agents.leaderboard.tables import best_of_kind, pairwise_improvement, summarise, to_markdown
-from agents.evaluation.trained import PRETRAINED_DIR, SB3Policy, load_trained, shipped_dirs
+from agents.leaderboard.tables import best_of_kind, board_pairwise, summarise, to_markdown
+from agents.leaderboard.learned import LearnedGroup, inference, learned_groups, missing_v2_rows
+from agents.evaluation.trained import PRETRAINED_DIR
 from agents.evaluation.episodes import hindsight_preloads, run_policies, sweep_row
 from agents.policies.oracle import TABLE_PATH as ORACLE_TABLE, MapOracle
 from agents.policies.scripted import ConstantPreload
@@ -86,80 +86,6 @@ from agents.leaderboard.upper import PLANNER_ROW, planner_row, require_planner_s
 
 __all__ = ["PLANNER_ROW", "LearnedGroup", "learned_groups", "run_tier", "summarise",
            "to_markdown", "main"]
-
-#: the row kinds compared pair by pair on a tier (results.json's pairwise_improvement); learned rows
-#: only with learned rows of the same budget (a protocol-v2 early row with the other early rows)
-PAIRWISE_KINDS = ("learned", "industry", "model-based")
-
-
-@dataclass
-class LearnedGroup:
-    """One algorithm's runs (one policy per training seed) trained on ``tier``: a row on the board
-    of every tier evaluated (:meth:`row_name`)."""
-
-    name: str
-    algo: str
-    tier: str
-    policies: list[SB3Policy]
-    seeds: list[int | None]
-    timesteps: list[int | None]
-    dirs: list[str] = field(default_factory=list)
-    shipped: bool = False
-    train_wall_s: list[float | None] = field(default_factory=list)
-    #: a protocol-v2 early row: the best checkpoint up to this many env steps (None: the run's selection)
-    early_row_steps: int | None = None
-    #: the protocol each run trained under (train.py's config; 1 if it does not say)
-    protocols: list[int] = field(default_factory=list)
-
-    def row_name(self, tier: str) -> str:
-        """The row's name on the board of ``tier`` (saying so where it was trained on another)."""
-        return self.name if tier == self.tier else f"{self.name} - trained on {self.tier}"
-
-
-def _config(d: Path) -> dict:
-    cfg = d / "config.json"
-    return json.loads(cfg.read_text()) if cfg.exists() else {}
-
-
-def learned_groups(model_dirs: list[str | Path], pretrained: bool,
-                   pretrained_dir: Path = PRETRAINED_DIR) -> list[LearnedGroup]:
-    """The learned rows: ``model_dirs`` grouped by (algorithm, tier) from their config.json
-    (one directory per training seed), then one row per shipped policy in
-    ``pretrained_dir/<algo>/`` if ``pretrained``."""
-    groups: dict[tuple[str, str, bool, int | None], LearnedGroup] = {}
-
-    def add(d: Path, algo: str | None, shipped: bool) -> None:
-        cfg = _config(d)
-        algo = algo or cfg.get("algo")
-        if algo is None:
-            raise ValueError(f"{d}: no config.json names the algorithm; train it with train.py or put the "
-                             "model in agents/pretrained/<algo>/")
-        tier = cfg.get("tier", DEFAULT_TIER)
-        early = cfg.get("early_row_steps")          # a protocol-v2 run's row at its early budget
-        key = (algo, tier, shipped, early)
-        if key not in groups:
-            label = "shipped" if shipped else "trained" if early is None else f"trained, best up to {early // 1000}k steps"
-            groups[key] = LearnedGroup(f"{algo.upper()} ({label})", algo, tier, [], [], [], shipped=shipped,
-                                       early_row_steps=early)
-        g = groups[key]
-        try:
-            g.policies.append(load_trained(d, algo=algo, portable=True))   # the same bits on every CPU
-        except ValueError as err:                  # an architecture the portable path does not cover
-            print(f"note: {d}: {err}; evaluated through torch (statistical across CPUs)", flush=True)
-            g.policies.append(load_trained(d, algo=algo))
-        g.seeds.append(cfg.get("seed"))
-        g.timesteps.append(cfg.get("selected_timesteps", cfg.get("num_timesteps")))
-        g.dirs.append(str(d))
-        g.train_wall_s.append(None if early else cfg.get("train_wall_s"))    # an early row: the run's is not its
-        g.protocols.append(cfg.get("protocol", 1))
-
-    for d in model_dirs:
-        add(Path(d), None, False)
-    if pretrained:
-        for d in shipped_dirs(pretrained_dir):
-            add(d, d.name, True)
-    return list(groups.values())
-
 
 # -- one tier --------------------------------------------------------------------------------------
 def _validation_choice(tier: str, s: Settings, store: Path, out_dir: Path, progress: bool) -> ValidationChoice:
@@ -226,14 +152,6 @@ def _stages(s: Settings, stored: StoredReferences | None) -> int:
     """How many stages a tier's board runs, so that its progress lines count up to it: the
     policies alone with stored references; else the sweep, the planner (if any), the policies."""
     return 1 if stored is not None else (3 if s.planner is not None else 2)
-
-
-def _inference(policies: list) -> str:
-    """How a group's actions were computed: bit-identical on every CPU, or through torch."""
-    from agents.policies.portable import PortablePolicy
-    if all(isinstance(p, PortablePolicy) for p in policies):
-        return "portable float64 (agents/policies/portable.py): the same bits on every CPU"
-    return "torch: its last bits differ between CPUs"
 
 
 def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = STORE_PATH,
@@ -305,7 +223,7 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
         rows[g.row_name(tier)] = summarise("learned", runs, r0, r1, **reps, versus={"contextual constant": contextual_res},
                                  algo=g.algo, training_seeds=g.seeds,
                                  timesteps=g.timesteps, train_wall_s=g.train_wall_s, model_dirs=g.dirs,
-                                 headline=headline, inference=_inference(g.policies),
+                                 headline=headline, inference=inference(g.policies),
                                  early_row_steps=g.early_row_steps)
         if P.PROTOCOL_VERSION >= 2:
             want = P.V2_SEEDS if g.algo in P.V2_ALGORITHMS else None
@@ -318,8 +236,8 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
             deviations.append(f"{g.row_name(tier)}: runs of protocol {', '.join(map(str, other))} "
                               f"(the board's: {P.PROTOCOL_VERSION})")
     if P.PROTOCOL_VERSION >= 2 and not s.smoke and s.protocol_sized(tier):
-        deviations += _missing_v2_rows(groups) + baselines.not_the_protocols(tier, contextual_dir, store)
-    pairwise = _pairwise(rows, r0, r1, s.poi_reps)
+        deviations += missing_v2_rows(groups) + baselines.not_the_protocols(tier, contextual_dir, store)
+    pairwise = board_pairwise(rows, r0, r1, s.poi_reps)
     if s.episodes < protocol_s.episodes:
         deviations.append(f"{s.episodes} test episodes (the protocol: {protocol_s.episodes})")
     upper, upper_deviations = upper_fields(refs, r0, r1, protocol_s.planner_settings())
@@ -345,32 +263,6 @@ def run_tier(tier: str, s: Settings, groups: list[LearnedGroup], store: Path = S
             else "computed in this run",
             **upper, "policies": rows, "pairwise_improvement": pairwise,
             "best_industry_row": best_of_kind(rows, baselines.INDUSTRY_KIND), "wall_s": time.time() - t0}
-
-
-def _pairwise(rows: dict[str, dict], r0: np.ndarray, r1: np.ndarray, poi_reps: int) -> dict[str, dict[str, list[float]]]:
-    """Every pair of the rows of PAIRWISE_KINDS, paired by episode: the industry and model-based rows
-    with each other and with every learned row, learned rows with the learned rows of their own
-    budget (``early_row_steps``: the selected checkpoints together, the early rows together)."""
-    fixed = {n: np.asarray(r["episode_returns"]) for n, r in rows.items() if r["kind"] in PAIRWISE_KINDS
-             and r["kind"] != "learned"}
-    budgets = dict.fromkeys(r.get("early_row_steps") for r in rows.values() if r["kind"] == "learned")
-    out: dict[str, dict[str, list[float]]] = {}
-    for budget in budgets or [None]:
-        compared = {**fixed, **{n: np.asarray(r["episode_returns"]) for n, r in rows.items()
-                                if r["kind"] == "learned" and r.get("early_row_steps") == budget}}
-        if len(compared) > 1:
-            for a, versus in pairwise_improvement(compared, r0, r1, poi_reps).items():
-                out.setdefault(a, {}).update(versus)
-    return out
-
-
-def _missing_v2_rows(groups: list[LearnedGroup]) -> list[str]:
-    """Protocol v2's learned rows that no run gives: per algorithm its selected checkpoint's row
-    and its early row (runs trained on the board's tiers or not)."""
-    have = {(g.algo, g.early_row_steps) for g in groups if not g.shipped}
-    return [f"{algo.upper()}: no {'early row' if early else 'trained run'} (protocol v2's runs: "
-            f"python -m agents.training.protocol_runs --protocol 2 --list)"
-            for algo in P.V2_ALGORITHMS for early in (None, P.V2_EARLY_ROW_STEPS) if (algo, early) not in have]
 
 
 def build_parser() -> argparse.ArgumentParser:

@@ -12,7 +12,8 @@ from agents.leaderboard import scoring
 from agents.evaluation.result import EvalResult
 
 
-__all__ = ["score_fields", "summarise", "pairwise_improvement", "improvement", "best_of_kind", "to_markdown"]
+__all__ = ["score_fields", "summarise", "pairwise_improvement", "board_pairwise", "improvement", "best_of_kind",
+           "to_markdown", "PAIRWISE_KINDS"]
 
 #: the row kinds of the statistics table (every row with intervals of its own; not the references)
 STATISTICS_KINDS = ("learned", "industry", "model-based", "submitted")
@@ -93,6 +94,28 @@ def pairwise_improvement(returns: dict[str, np.ndarray], r0: np.ndarray, r1: np.
     scores = {k: scoring.normalised_scores(np.atleast_2d(v), r0, r1) for k, v in returns.items()}
     return {a: {b: list(scoring.probability_of_improvement(scores[a], scores[b], reps=poi_reps))
                 for b in names[i + 1:]} for i, a in enumerate(names[:-1])}
+
+
+#: the row kinds compared pair by pair on a tier (results.json's pairwise_improvement); learned rows
+#: only with learned rows of the same budget (a protocol-v2 early row with the other early rows)
+PAIRWISE_KINDS = ("learned", "industry", "model-based")
+
+
+def board_pairwise(rows: dict[str, dict], r0: np.ndarray, r1: np.ndarray, poi_reps: int) -> dict[str, dict[str, list[float]]]:
+    """Every pair of the rows of PAIRWISE_KINDS, paired by episode: the industry and model-based rows
+    with each other and with every learned row, learned rows with the learned rows of their own
+    budget (``early_row_steps``: the selected checkpoints together, the early rows together)."""
+    fixed = {n: np.asarray(r["episode_returns"]) for n, r in rows.items() if r["kind"] in PAIRWISE_KINDS
+             and r["kind"] != "learned"}
+    budgets = dict.fromkeys(r.get("early_row_steps") for r in rows.values() if r["kind"] == "learned")
+    out: dict[str, dict[str, list[float]]] = {}
+    for budget in budgets or [None]:
+        compared = {**fixed, **{n: np.asarray(r["episode_returns"]) for n, r in rows.items()
+                                if r["kind"] == "learned" and r.get("early_row_steps") == budget}}
+        if len(compared) > 1:
+            for a, versus in pairwise_improvement(compared, r0, r1, poi_reps).items():
+                out.setdefault(a, {}).update(versus)
+    return out
 
 
 def improvement(pairwise: dict[str, dict[str, list[float]]], a: str, b: str) -> list[float] | None:

@@ -278,7 +278,8 @@ def test_learned_rows_are_compared_with_the_learned_rows_of_their_own_budget():
 
     rows = {"ref": row("reference"), "switch": row("industry"), "MPC": row("model-based"),
             "A": row("learned"), "B": row("learned"), "A 100k": row("learned", 100_000), "B 100k": row("learned", 100_000)}
-    out = leaderboard._pairwise(rows, r0, r1, poi_reps=50)
+    from agents.leaderboard.tables import board_pairwise
+    out = board_pairwise(rows, r0, r1, poi_reps=50)
     pairs = {frozenset((a, b)) for a, vs in out.items() for b in vs}
     assert pairs == {frozenset(p) for p in [("switch", "MPC"), ("switch", "A"), ("switch", "B"), ("MPC", "A"),
                                             ("MPC", "B"), ("A", "B"), ("switch", "A 100k"), ("switch", "B 100k"),
@@ -292,7 +293,8 @@ def test_learned_rows_are_compared_with_the_learned_rows_of_their_own_budget():
 def test_protocol_v2_names_every_learned_row_no_run_gives():
     from agents import protocol as P
     g = leaderboard.LearnedGroup("SAC (trained)", "sac", "transient", [], [], [])
-    missing = leaderboard._missing_v2_rows([g])
+    from agents.leaderboard.learned import missing_v2_rows
+    missing = missing_v2_rows([g])
     assert len(missing) == 2 * len(P.V2_ALGORITHMS) - 1
     assert "SAC: no early row" in missing[0] and not any(m.startswith("SAC: no trained run") for m in missing)
 
