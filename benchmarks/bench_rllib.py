@@ -54,7 +54,7 @@ def single_env_rate(steps: int) -> float:
 
 
 def make_env(cfg):
-    import bearing_gym  # noqa: F401 - registers BearingPreload-v0 in the worker process
+    import bearing_gym  # noqa: F401,F811 - registers BearingPreload-v0 in the worker process
     return gymnasium.make(ENV_ID, **cfg)
 
 
