@@ -56,8 +56,8 @@ from agents import protocol as P
 from agents.paths import PRETRAINED_DIR, TRAINED_DIR, TRAINED_V2_DIR, checkout_root, require_checkout, runs_dir, start_bank_path
 
 
-__all__ = ["RUNS", "run_dir", "collected_dir", "is_done", "is_running", "best_checkpoint", "run_summary", "train_run", "collect", "ship",
-           "ship_v2", "main"]
+__all__ = ["RUNS", "run_dir", "collected_dir", "is_done", "is_running", "best_checkpoint", "run_summary", "train_run", "collect", "best_run",
+           "ship", "ship_v2", "main"]
 
 ROOT = checkout_root()             # None in an installed package: the protocol runs need a checkout
 WORK_DIR = runs_dir("protocol")
@@ -242,15 +242,21 @@ def train_run(algo: str, seed: int, budget: int = P.STEP_BUDGET_PER_RUN, trained
     return dst
 
 
+def best_run(trained_dir: Path, algo: str) -> Path | None:
+    """``algo``'s collected run with the best validation return of its selected checkpoint
+    (validation episodes only; the first on a tie), or None if none is collected."""
+    runs = {d: b for d in sorted((trained_dir / algo).glob("seed_*")) if (b := best_checkpoint(d)) is not None}
+    return max(runs, key=lambda d: runs[d]["mean_validation_return"]) if runs else None
+
+
 def ship(trained_dir: Path = TRAINED_DIR, pretrained_dir: Path = PRETRAINED_DIR) -> dict[str, Path]:
     """Per algorithm, copy the collected run with the best validation return of its selected
     checkpoint to ``pretrained_dir/<algo>/``."""
     shipped = {}
     for algo in P.ALGORITHMS:
-        runs = {d: b for d in sorted((trained_dir / algo).glob("seed_*")) if (b := best_checkpoint(d)) is not None}
-        if not runs:
+        best = best_run(trained_dir, algo)
+        if best is None:
             continue
-        best = max(runs, key=lambda d: runs[d]["mean_validation_return"])
         dst = pretrained_dir / algo
         dst.mkdir(parents=True, exist_ok=True)
         for name in ("model.zip", "vec_normalize.pkl", "config.json"):
@@ -270,24 +276,22 @@ def ship_v2(trained_dir: Path = TRAINED_DIR_V2, work_dir: Path | None = None,
     work_dir = WORK_DIR_V2 if work_dir is None else work_dir
     shipped = {}
     for algo in P.V2_ALGORITHMS:
-        runs = {d: b for d in sorted((trained_dir / algo).glob("seed_*")) if (b := best_checkpoint(d)) is not None}
-        if not runs:
+        best = best_run(trained_dir, algo)
+        if best is None:
             continue
-        best = max(runs, key=lambda d: runs[d]["mean_validation_return"])
         dst = pretrained_dir / algo
         dst.mkdir(parents=True, exist_ok=True)
         for name in ("portable_policy.npz", "config.json"):
             shutil.copyfile(best / name, dst / name)
         src = work_dir / f"{algo}_s{json.loads((best / 'config.json').read_text())['seed']}"
-        sb3 = [name for name in ("model.zip", "vec_normalize.pkl") if (src / name).exists()]
+        both = all((src / name).exists() for name in ("model.zip", "vec_normalize.pkl"))
         for name in ("model.zip", "vec_normalize.pkl"):
-            if name in sb3 and len(sb3) == 2:
+            if both:
                 shutil.copyfile(src / name, dst / name)
             else:
                 (dst / name).unlink(missing_ok=True)
         shipped[algo] = best
-        print(f"{algo}: shipped {best} -> {dst}" + ("" if len(sb3) == 2 else " (portable export only: its SB3 files "
-                                                   f"are not in {src})"))
+        print(f"{algo}: shipped {best} -> {dst}" + ("" if both else f" (portable export only: its SB3 files are not in {src})"))
     return shipped
 
 
