@@ -5,16 +5,24 @@ tuning one knob at a time on recorded cycles would.
 Each round sets every coordinate in turn to the candidate with the best value, the others held;
 ties keep the current setting, then the first candidate. Every candidate of a coordinate is
 evaluated in one batch.
+
+A fit can take longer than a sitting (a speed table on the slower tiers: one to two hours of a
+core). :class:`Journal` keeps every evaluated batch on disk, so a stopped fit run again replays the
+ascent from the journal - the ascent is deterministic, so it asks for the same batches in the same
+order - and evaluates only what is left; ``until`` stops it cleanly before a batch that would not
+finish in time (:class:`FitStopped`).
 """
 
 from __future__ import annotations
 
+import json
 import time
+from pathlib import Path
 from typing import Any, Callable, Sequence, TypeVar
 
 import numpy as np
 
-__all__ = ["coordinate_ascent", "mean_returns", "record_problems"]
+__all__ = ["coordinate_ascent", "mean_returns", "record_problems", "Journal", "FitStopped"]
 
 S = TypeVar("S")
 
@@ -74,3 +82,72 @@ def record_problems(path, want: dict[str, Any], start: Any) -> list[str]:
     if stored != start:
         out.append(f"start: stored {str(stored)[:60]}, today's {start}")
     return out
+
+
+class FitStopped(Exception):
+    """A journaled fit stopped before a batch that would not finish by its deadline; its journal keeps
+    what is done (run the same command again to resume)."""
+
+
+class Journal:
+    """``evaluate`` with its batches kept in a JSON-lines file: the first line the fit's ``context``
+    (its inputs: kernel, tier, episodes, grid, ...), then one line per evaluated batch (the
+    candidates' keys, their values, the seconds it took). A batch already in the journal - the same
+    keys in the same order - is answered from it, not run; a journal written for another context is
+    set aside (started afresh, with a message). ``until`` (a ``time.time()`` deadline): before a
+    batch, :class:`FitStopped` if it would not end in time at the pace measured so far (seconds per
+    candidate). ``seconds``: the fit's evaluation time so far, the journaled batches' included."""
+
+    def __init__(self, evaluate: Callable[[list], np.ndarray], path: Path, context: dict[str, Any],
+                 key: Callable[[Any], Any], until: float | None = None,
+                 progress: Callable[[str], None] | None = None):
+        self.evaluate, self.path, self.key, self.until, self.progress = evaluate, Path(path), key, until, progress
+        self.context = json.loads(json.dumps(context))            # as it reads back from the file
+        self.done: dict[str, tuple[list[float], float]] = {}
+        self.seconds = 0.0
+        self._pace: float | None = None                           # seconds per candidate, measured
+        lines = self._read()
+        if lines and lines[0].get("context") == self.context:
+            for rec in lines[1:]:
+                self.done[json.dumps(rec["keys"])] = (rec["values"], rec["seconds"])
+                self._pace = rec["seconds"] / max(len(rec["keys"]), 1)
+            if progress and self.done:
+                progress(f"resuming from {self.path}: {len(self.done)} batches already evaluated")
+        else:
+            if lines and progress:
+                progress(f"{self.path} holds a fit of other inputs; starting afresh")
+            self.path.parent.mkdir(parents=True, exist_ok=True)
+            self.path.write_text(json.dumps({"context": self.context}) + "\n")
+
+    def _read(self) -> list[dict]:
+        try:
+            text = self.path.read_text()
+        except OSError:
+            return []
+        out = []
+        for line in text.splitlines():
+            try:
+                out.append(json.loads(line))
+            except ValueError:                                    # a line cut short by a kill: the batch reruns
+                break
+        return out
+
+    def __call__(self, candidates: list) -> np.ndarray:
+        keys = [self.key(c) for c in candidates]
+        name = json.dumps(keys)
+        if name in self.done:
+            values, seconds = self.done[name]
+            self.seconds += seconds
+            return np.asarray(values, dtype=float)
+        if self.until is not None and self._pace is not None and time.time() + self._pace * len(keys) > self.until:
+            raise FitStopped(f"stopped before a batch of {len(keys)} candidates (~{self._pace * len(keys) / 60:.1f} min) "
+                             f"that would end after the deadline; {len(self.done)} batches kept in {self.path}")
+        t0 = time.time()
+        values = np.asarray(self.evaluate(candidates), dtype=float)
+        seconds = time.time() - t0
+        self.seconds += seconds
+        self._pace = seconds / max(len(keys), 1)
+        self.done[name] = (values.tolist(), seconds)
+        with self.path.open("a") as f:
+            f.write(json.dumps({"keys": keys, "values": values.tolist(), "seconds": seconds}) + "\n")
+        return values

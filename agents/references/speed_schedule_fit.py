@@ -2,6 +2,7 @@
 training seeds: coordinate ascent of the mean return.
 
     python -m agents.references.speed_schedule_fit --tier transient --kind 2-level    # agents/data/speed_schedule_<tier>_<kind>.json
+    python -m agents.references.speed_schedule_fit --tier field --kind table --until 18:00   # stops cleanly; run again to resume
 
 Each ``kind`` starts from the tier's validation constant (protocol v2's rule) at every level, then, ``rounds`` times,
 sets one coordinate at a time - a threshold among ``THRESHOLD_CANDIDATES_RPM`` (kept increasing),
@@ -11,6 +12,11 @@ candidate of a coordinate runs in one batch (:func:`agents.evaluation.episodes.r
 A coordinate ascent, not a global search: what a practitioner tuning one switch at a time on
 recorded cycles would find. Kinds: ``2-level`` (one threshold), ``3-level`` (two), ``table``
 (a level at each of ``TABLE_KNOTS_RPM``, linear between).
+
+A fit is resumable: every evaluated batch goes to a journal beside the output
+(``speed_schedule_<tier>_<kind>.partial.jsonl``, :class:`agents.references.ascent.Journal`); run
+the same command again and it replays what the journal holds and evaluates the rest. The journal
+is removed when the fit is written; commit it to carry a fit over to another machine.
 """
 
 from __future__ import annotations
@@ -28,10 +34,10 @@ from bearing_gym.task import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES
 from agents import protocol as P
 from agents.paths import DATA_DIR
 from agents.policies.speed_schedule import SpeedSchedule
-from agents.references.ascent import coordinate_ascent, mean_returns, record_problems
+from agents.references.ascent import FitStopped, Journal, coordinate_ascent, mean_returns, record_problems
 
 __all__ = ["KINDS", "THRESHOLD_CANDIDATES_RPM", "TABLE_KNOTS_RPM", "initial", "fit_schedule", "schedule_path",
-           "write_fit", "fit_problems", "candidates", "main"]
+           "journal_path", "write_fit", "fit_problems", "candidates", "main"]
 
 KINDS = ("2-level", "3-level", "table")
 #: where a switch may sit (rpm): the tiers' speeds are 10,000-25,000 rpm
@@ -73,10 +79,13 @@ def fit_schedule(tier: str, kind: str, episodes: int = P.SCHEDULE_FIT_EPISODES, 
                  rounds: int = P.SCHEDULE_FIT_ROUNDS, start_n: float | None = None,
                  progress: Callable[[str], None] | None = print,
                  evaluate: Callable[[list[SpeedSchedule]], np.ndarray] | None = None,
+                 journal: Path | None = None, until: float | None = None,
                  **run_kw: Any) -> tuple[SpeedSchedule, dict[str, Any]]:
     """The fitted schedule of ``kind`` on ``tier`` and its record (module docstring). ``evaluate``:
     the mean return of each schedule (default: run them on the fit episodes); ``start_n``: the
-    starting level (default: the tier's stored validation constant)."""
+    starting level (default: the tier's stored validation constant); ``journal``: a file that keeps
+    the evaluated batches so a stopped fit resumes (``until``, a ``time.time()`` deadline: raise
+    :class:`agents.references.ascent.FitStopped` before a batch that would end after it)."""
     if not (P.TRAIN.start <= seed and seed + episodes <= P.TRAIN.stop):
         raise ValueError(f"fit seeds {seed}..{seed + episodes - 1} must be training seeds ({P.TRAIN.start}.."
                          f"{P.TRAIN.stop - 1}): the schedule is fitted on training scenarios only")
@@ -84,15 +93,21 @@ def fit_schedule(tier: str, kind: str, episodes: int = P.SCHEDULE_FIT_EPISODES, 
         evaluate = mean_returns(tier, episodes, seed, episode_steps, **run_kw)
     grid = P.preload_grid(grid_step_n)
     start_n = _start_n(tier, None, grid_step_n) if start_n is None else min(grid, key=lambda p: abs(p - start_n))
+    meta = {"tier": tier, "kind": kind, "seeds": [seed, seed + episodes - 1], "episode_steps": episode_steps,
+            "grid_step_n": grid_step_n, "rounds": rounds, "candidates": candidates()}
+
+    def key(sch: SpeedSchedule) -> str:
+        return json.dumps(sch.to_json(), sort_keys=True)
+    if journal is not None:
+        from bearing_gym.envs.provenance import kernel_hash
+        evaluate = Journal(evaluate, journal, {**meta, "start_n": start_n, "kernel_hash": kernel_hash()}, key,
+                           until, progress)
     t0 = time.time()
     s, best, history = coordinate_ascent(
         initial(kind, start_n), _coordinates, lambda sch, coord: _variants(sch, coord, grid), evaluate, rounds,
-        key=lambda sch: json.dumps(sch.to_json(), sort_keys=True), describe=lambda sch: sch.to_json(),
-        progress=progress, label=f"speed schedule {kind} on {tier}")
-    meta = {"tier": tier, "kind": kind, "seeds": [seed, seed + episodes - 1], "episode_steps": episode_steps,
-            "grid_step_n": grid_step_n, "rounds": rounds, "candidates": candidates(), "mean_return": best,
-            "history": history,
-            "wall_s": time.time() - t0}
+        key=key, describe=lambda sch: sch.to_json(), progress=progress, label=f"speed schedule {kind} on {tier}")
+    meta.update(mean_return=best, history=history,
+                wall_s=evaluate.seconds if isinstance(evaluate, Journal) else time.time() - t0)
     return s, meta
 
 
@@ -105,6 +120,11 @@ def schedule_path(tier: str, kind: str, data_dir: Path = DATA_DIR) -> Path:
     return data_dir / f"speed_schedule_{tier}_{kind}.json"
 
 
+def journal_path(out: Path) -> Path:
+    """Where the fit writing ``out`` keeps its evaluated batches until it is written."""
+    return out.with_name(out.stem + ".partial.jsonl")
+
+
 def _start_n(tier: str, store: Path | None, grid_step_n: float) -> float:
     """The fit's starting level: the tier's stored validation constant by protocol v2's rule, on the grid."""
     from agents.references.store import STORE_PATH, load_choice
@@ -114,16 +134,20 @@ def _start_n(tier: str, store: Path | None, grid_step_n: float) -> float:
 
 def write_fit(tier: str, kind: str, out: Path | None = None, episodes: int | None = None,
               rounds: int = P.SCHEDULE_FIT_ROUNDS, episode_steps: int = EPISODE_STEPS, store: Path | None = None,
-              progress: Callable[[str], None] | None = print) -> Path:
+              progress: Callable[[str], None] | None = print, until: float | None = None) -> Path:
     """Fit ``kind`` on ``tier`` (the protocol's episodes by default), starting from the validation
-    constant in ``store``, and write it with its record and the kernel's fingerprint; returns the path."""
+    constant in ``store``, and write it with its record and the kernel's fingerprint; returns the
+    path. Resumable through the journal beside it (:func:`journal_path`; removed once written);
+    ``until``: as :func:`fit_schedule`'s."""
     from bearing_gym.envs.provenance import kernel_hash
     n = P.episodes_for_tier(tier, P.SCHEDULE_FIT_EPISODES) if episodes is None else episodes
-    s, meta = fit_schedule(tier, kind, episodes=n, rounds=rounds, episode_steps=episode_steps,
-                           start_n=_start_n(tier, store, P.CONTEXTUAL_GRID_STEP_N), progress=progress)
     out = Path(out) if out is not None else schedule_path(tier, kind)
+    s, meta = fit_schedule(tier, kind, episodes=n, rounds=rounds, episode_steps=episode_steps,
+                           start_n=_start_n(tier, store, P.CONTEXTUAL_GRID_STEP_N), progress=progress,
+                           journal=journal_path(out), until=until)
     out.parent.mkdir(parents=True, exist_ok=True)
     out.write_text(json.dumps({"schedule": s.to_json(), **meta, "kernel_hash": kernel_hash()}, indent=1) + "\n")
+    journal_path(out).unlink(missing_ok=True)
     return out
 
 
@@ -145,8 +169,18 @@ def main(argv: list[str] | None = None) -> None:
     ap.add_argument("--tier", choices=TIER_NAMES, default=DEFAULT_TIER)
     ap.add_argument("--kind", choices=KINDS, required=True)
     ap.add_argument("--out", help="output JSON (default agents/data/speed_schedule_<tier>_<kind>.json)")
+    ap.add_argument("--until", metavar="HH:MM", help="start no batch that would not end by then (at the pace so far); "
+                    "exit 0 with the journal kept, run the command again to resume")
     a = ap.parse_args(argv)
-    out = write_fit(a.tier, a.kind, Path(a.out) if a.out else None)
+    until = None
+    if a.until:
+        from agents.clock import deadline
+        until = deadline(a.until).timestamp()
+    try:
+        out = write_fit(a.tier, a.kind, Path(a.out) if a.out else None, until=until)
+    except FitStopped as stop:
+        print(f"{stop}; run the same command again to resume")
+        return
     print(f"wrote {out}: {json.loads(out.read_text())['schedule']}")
 
 

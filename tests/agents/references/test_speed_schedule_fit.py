@@ -64,3 +64,54 @@ def test_a_written_fit_records_its_start_and_the_adoption_check_sees_another(tmp
     assert F.fit_problems("transient", "2-level", out, 2, 1, 3, first) == []
     other = store(tmp_path / "b.json", 2000.0)
     assert [p.split(":")[0] for p in F.fit_problems("transient", "2-level", out, 2, 1, 3, other)] == ["start"]
+
+
+class Interrupted(Exception):
+    pass
+
+
+def counting(evaluate, stop_after=None):
+    """``evaluate`` that records every batch it runs and raises Interrupted after ``stop_after`` batches."""
+    calls = []
+
+    def wrapped(schedules):
+        if stop_after is not None and len(calls) >= stop_after:
+            raise Interrupted
+        calls.append([s.to_json() for s in schedules])
+        return evaluate(schedules)
+    return wrapped, calls
+
+
+def test_a_stopped_fit_resumes_from_its_journal_and_ends_as_an_uninterrupted_one(tmp_path):
+    """Killed after 3 batches, the fit run again evaluates only the batches the journal lacks, and
+    ends with the schedule and history of a fit that never stopped; the journal's context guards it."""
+    target = synthetic((1500.0, 800.0, 1200.0), (12500.0, 20000.0))
+    kw = dict(episodes=4, rounds=2, start_n=1150.0, progress=None)
+    whole, whole_calls = counting(target)
+    s_ref, meta_ref = F.fit_schedule("transient", "3-level", evaluate=whole, **kw)
+    journal = tmp_path / "fit.partial.jsonl"
+    first, first_calls = counting(target, stop_after=3)
+    with pytest.raises(Interrupted):
+        F.fit_schedule("transient", "3-level", evaluate=first, journal=journal, **kw)
+    assert len(journal.read_text().splitlines()) == 1 + 3                      # the context, then 3 batches
+    again, again_calls = counting(target)
+    s, meta = F.fit_schedule("transient", "3-level", evaluate=again, journal=journal, **kw)
+    assert s.to_json() == s_ref.to_json() and meta["history"] == meta_ref["history"]
+    distinct = [c for k, c in enumerate(whole_calls) if c not in whole_calls[:k]]
+    assert first_calls + again_calls == distinct     # nothing evaluated twice (a batch the ascent asks again included)
+    other, other_calls = counting(target)                                      # another start: set aside
+    F.fit_schedule("transient", "3-level", evaluate=other, journal=journal, **{**kw, "start_n": 900.0})
+    assert other_calls[0] == [F.initial("3-level", 900.0).to_json()] and len(other_calls) > 3
+
+
+def test_a_journaled_fit_stops_before_a_batch_that_would_pass_its_deadline(tmp_path):
+    import time
+
+    from agents.references.ascent import FitStopped
+    journal = tmp_path / "fit.partial.jsonl"
+    ev, calls = counting(synthetic((1500.0, 800.0), (20000.0,)))
+    with pytest.raises(FitStopped, match="batches kept in"):
+        F.fit_schedule("transient", "2-level", episodes=4, rounds=1, start_n=1150.0, progress=None, evaluate=ev,
+                       journal=journal, until=time.time() - 1.0)
+    assert len(calls) == 1                           # the first batch runs (no pace yet), then the deadline holds
+    assert len(journal.read_text().splitlines()) == 2
