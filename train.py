@@ -104,6 +104,10 @@ def build_parser() -> argparse.ArgumentParser:
                          "refused if it does not fit; none: settle every start. With a bank, training draws the "
                          "bank's scenarios (each once before any repeats) and each reset copies its settled start "
                          "instead of simulating 1.46 s; validation is unchanged. --resume keeps the run's choice")
+    ap.add_argument("--until", metavar="HH:MM",
+                    help="pause the run at its last resume point (checkpoint, VecNormalize statistics, replay buffer) "
+                         "that can be saved before this time, at the pace of the run so far; config.json then says "
+                         "paused, and --resume continues it (the run's sessions add up to one run of the budget)")
     ap.add_argument("--no-progress", action="store_true",
                     help="no progress bar: plain progress lines, as when the output is not a terminal")
     return ap
@@ -250,6 +254,24 @@ def protocol_defaults(args: argparse.Namespace) -> argparse.Namespace:
     return args
 
 
+def earlier_wall_s(out: Path, resumed: bool) -> float:
+    """The training wall time of a resumed run's earlier sessions (config.json of its last pause or
+    end; 0 for a new run or when no session recorded one)."""
+    cfg = out / "config.json"
+    return json.loads(cfg.read_text()).get("train_wall_s", 0.0) if resumed and cfg.exists() else 0.0
+
+
+def pause(out: Path, args: argparse.Namespace, model, t0: float, resumed: bool) -> int:
+    """A run stopped by --until at its newest checkpoint: config.json records the pause (the steps
+    done and the training wall time of every session so far), and no model.zip is written."""
+    cfg = dict(vars(args), paused=True, num_timesteps=int(model.num_timesteps),
+               train_wall_s=time.time() - t0 + earlier_wall_s(out, resumed))
+    (out / "config.json").write_text(json.dumps(cfg, indent=2))
+    print(f"paused at {model.num_timesteps:,} of {args.timesteps:,} steps after {cfg['train_wall_s'] / 60:.1f} min of "
+          f"training; continue with the same command and --resume (--out {out})", flush=True)
+    return 0
+
+
 def main(argv: list[str] | None = None) -> int:
     args = protocol_defaults(build_parser().parse_args(argv))
     if args.timesteps < 1 or args.n_envs < 1:
@@ -260,6 +282,9 @@ def main(argv: list[str] | None = None) -> int:
                          f"one per core unless NUMBA_NUM_THREADS says otherwise), got {args.threads}")
     if args.val_episodes < 1:
         raise SystemExit("train.py: --val-episodes must be >= 1")
+    if args.until is not None:
+        from agents.clock import deadline
+        deadline(args.until)             # SystemExit naming --until on a malformed time, before any work
     from agents.evaluation.episodes import TEST_SEED
     n_val_envs = args.val_episodes      # one episode per env: env i runs the scenario of val_seed + i
     if args.val_seed < TEST_SEED + max(args.eval_episodes, 1) and TEST_SEED < args.val_seed + n_val_envs:
@@ -269,7 +294,7 @@ def main(argv: list[str] | None = None) -> int:
     from stable_baselines3.common.callbacks import CallbackList
     from stable_baselines3.common.vec_env import VecNormalize
 
-    from agents.training.callbacks import BEST_INFO, BEST_MODEL, BEST_VECNORMALIZE, ProgressBar, ProgressLines, ResumePoints, ValidationCallback, planned_timesteps, restore_selection
+    from agents.training.callbacks import BEST_INFO, BEST_MODEL, BEST_VECNORMALIZE, ProgressBar, ProgressLines, ResumePoints, StopBefore, ValidationCallback, planned_timesteps, restore_selection
 
     torch.set_num_threads(1)          # the environment kernel uses the cores
     out = Path(args.out)
@@ -340,6 +365,11 @@ def main(argv: list[str] | None = None) -> int:
         ResumePoints(save_freq=max(1, (args.checkpoint_freq or args.eval_freq) // per_env), save_path=str(ckpt_dir),
                      name_prefix="model", save_vecnormalize=True, save_replay_buffer=off_policy),
     ])
+    stop = None
+    if args.until is not None:
+        from agents.clock import deadline
+        stop = StopBefore(deadline(args.until).timestamp(), every=max(1, (args.checkpoint_freq or args.eval_freq) // per_env))
+        callbacks.callbacks.append(stop)
     # SB3 counts total_timesteps on top of num_timesteps when it does not reset them
     remaining = args.timesteps - model.num_timesteps if resumed else args.timesteps
     if remaining > 0:
@@ -356,6 +386,8 @@ def main(argv: list[str] | None = None) -> int:
                     reset_num_timesteps=not resumed)
     else:
         print(f"{model.num_timesteps} steps already done (--timesteps {args.timesteps}): no training")
+    if stop is not None and stop.paused:
+        return pause(out, args, model, t0, resumed)
     model.save(out / "last_model.zip")
     env.save(str(out / "last_vec_normalize.pkl"))
     best = out / "eval"
@@ -369,9 +401,7 @@ def main(argv: list[str] | None = None) -> int:
         selected = dict(selected="final weights", selected_timesteps=int(model.num_timesteps))
     for src, dst in zip(sources, ("model.zip", "vec_normalize.pkl")):
         shutil.copyfile(src, out / dst)
-    train_s = time.time() - t0
-    if resumed and (out / "config.json").exists():   # wall time of the earlier sessions of this run
-        train_s += json.loads((out / "config.json").read_text()).get("train_wall_s", 0.0)
+    train_s = time.time() - t0 + earlier_wall_s(out, resumed)   # with the earlier sessions of a resumed run
     cfg = dict(vars(args), train_wall_s=train_s, num_timesteps=int(model.num_timesteps), **selected)
     (out / "config.json").write_text(json.dumps(cfg, indent=2))
     print(f"trained {model.num_timesteps:,} steps in {train_s / 60:.1f} min -> {out} "

@@ -30,7 +30,7 @@ import numpy as np
 from stable_baselines3.common.callbacks import BaseCallback, CheckpointCallback, EvalCallback, ProgressBarCallback
 
 
-__all__ = ["ValidationCallback", "ResumePoints", "restore_selection", "ProgressLines", "ProgressBar",
+__all__ = ["ValidationCallback", "ResumePoints", "StopBefore", "restore_selection", "ProgressLines", "ProgressBar",
            "planned_timesteps", "BEST_MODEL", "BEST_VECNORMALIZE", "BEST_INFO"]
 
 BEST_MODEL = "best_model.zip"
@@ -244,6 +244,46 @@ class ResumePoints(CheckpointCallback):
             for old in buffers[:-1]:
                 old.unlink(missing_ok=True)
         return keep_going
+
+
+class StopBefore(BaseCallback):
+    """Pause a run at a resume point when the next one would not be saved before ``deadline``.
+
+    Placed after :class:`ResumePoints` (the same ``every``: calls of ``on_step`` between resume
+    points, so it acts on the call at which one was just saved): there it measures the wall time of
+    the interval that ended (training and validation), and stops the training if the next
+    interval, as long again times ``margin``, would end after ``deadline``. The run then stands
+    exactly at its newest checkpoint (model, VecNormalize statistics, replay buffer), which
+    ``train.py --resume`` continues. ``paused`` says whether it stopped the training.
+
+    :param deadline: wall-clock time (``time.time()``) by which the run must have stopped.
+    :param every: ``on_step`` calls between resume points (ResumePoints' ``save_freq``).
+    :param margin: the next interval is budgeted at ``margin`` times the last one.
+    """
+
+    def __init__(self, deadline: float, every: int, margin: float = 1.25):
+        super().__init__()
+        if every < 1:
+            raise ValueError(f"every must be >= 1 on_step call, got {every}")
+        if margin < 1.0:
+            raise ValueError(f"margin must be >= 1 (the next interval budgeted at least as long as the last), got {margin}")
+        self.deadline, self.every, self.margin = float(deadline), int(every), float(margin)
+        self.paused = False
+
+    def _on_training_start(self) -> None:
+        self.last = time.time()
+
+    def _on_step(self) -> bool:
+        if self.n_calls % self.every:
+            return True
+        now = time.time()
+        interval, self.last = now - self.last, now
+        if now + self.margin * interval > self.deadline:
+            self.paused = True
+            print(f"pausing at {self.num_timesteps:,} steps: the next resume point (about {interval / 60:.1f} min "
+                  "away) would not be saved before the deadline; --resume continues from here", flush=True)
+            return False
+        return True
 
 
 def planned_timesteps(model, total_timesteps: int) -> int:

@@ -6,6 +6,7 @@ seeds, at the protocol's step budget, one run per command so that each fits a se
     python -m agents.training.protocol_runs --next --threads 1   # one numba thread (runs side by side on more cores)
     python -m agents.training.protocol_runs --algo sac --run 0   # train one run
     python -m agents.training.protocol_runs --ship               # copy each algorithm's best run to agents/pretrained/
+    python -m agents.training.protocol_runs --protocol 2 --algo tqc --run 2 --until 17:30   # pause by then; carried
 
 A run is ``train.py --algo A --seed S --timesteps STEP_BUDGET_PER_RUN --n-envs 2 --eval-episodes 0
 --val-episodes VALIDATION_EPISODES_IN_TRAINING --eval-freq VALIDATION_EVERY_STEPS --out
@@ -32,6 +33,13 @@ collected into ``agents/trained_v2/A/seed_S/``: the portable exports of the sele
 and of the early row (``by_<steps>/``), config and validation logs (:data:`COLLECT_V2`; the SB3
 files stay in the work directory).
 
+A run longer than a session is split with ``--until HH:MM`` (train.py pauses it at its last resume
+point before then). On the same machine the same command continues it from ``runs/``; for the
+next machine, a paused v2 run is packed into ``carry/protocol_v2/<algo>_s<seed>.tar.xz``
+(:mod:`agents.training.carry`: the newest checkpoint with its replay buffer, the validation record,
+the start bank's draws), which is committed; the same command then unpacks it wherever the work
+directory is missing or older, and deletes it once the run is collected.
+
 ``--ship`` copies, per algorithm, the run with the best validation return of its selected
 checkpoint (validation episodes only: the test seeds choose nothing) to
 ``agents/pretrained/<algo>/`` (model.zip + vec_normalize.pkl + config.json; protocol 2: the
@@ -53,10 +61,11 @@ from pathlib import Path
 from bearing_gym.task import DEFAULT_TIER
 
 from agents import protocol as P
+from agents.training import carry
 from agents.paths import PRETRAINED_DIR, TRAINED_DIR, TRAINED_V2_DIR, checkout_root, require_checkout, runs_dir, start_bank_path
 
 
-__all__ = ["RUNS", "run_dir", "collected_dir", "is_done", "is_running", "best_checkpoint", "run_summary", "train_run", "collect", "best_run",
+__all__ = ["RUNS", "run_dir", "carry_path", "collected_dir", "is_done", "is_running", "best_checkpoint", "run_summary", "train_run", "collect", "best_run",
            "ship", "ship_v2", "main"]
 
 ROOT = checkout_root()             # None in an installed package: the protocol runs need a checkout
@@ -79,6 +88,8 @@ EARLY = f"by_{P.V2_EARLY_ROW_STEPS}"
 COLLECT_V2 = ("portable_policy.npz", "config.json", "eval/validation_returns.npz", "eval/evaluations.npz",
               "eval/best.json", f"{EARLY}/portable_policy.npz", f"{EARLY}/config.json", f"{EARLY}/best.json")
 RUNS_V2 = [(a, k, s) for a in P.V2_ALGORITHMS for k, s in enumerate(P.v2_training_seeds())]
+#: paused v2 runs carried between machines through git (agents.training.carry); None outside a checkout
+CARRY_DIR = None if ROOT is None else ROOT / "carry" / "protocol_v2"
 
 
 def run_dir(algo: str, seed: int) -> Path:
@@ -208,18 +219,37 @@ def collect(src: Path, dst: Path, files: tuple[str, ...] = COLLECT) -> None:
         shutil.copyfile(src / name, dst / name)
 
 
+def carry_path(algo: str, seed: int, carry_dir: Path | None = CARRY_DIR) -> Path | None:
+    """Where a paused v2 run is carried to the next machine (:mod:`agents.training.carry`), or None
+    outside a checkout."""
+    return None if carry_dir is None else carry_dir / f"{algo}_s{seed}.tar.xz"
+
+
 def train_run(algo: str, seed: int, budget: int = P.STEP_BUDGET_PER_RUN, trained_dir: Path = TRAINED_DIR,
-              work_dir: Path | None = None, threads: int | None = None, protocol: int = 1) -> Path:
-    """Train one run with train.py (resuming its checkpoints if an earlier attempt left them)
-    and collect it; returns the collected directory."""
+              work_dir: Path | None = None, threads: int | None = None, protocol: int = 1,
+              until: str | None = None, carry_dir: Path | None = CARRY_DIR) -> Path | None:
+    """Train one run with train.py (resuming its checkpoints if an earlier attempt left them, or,
+    for protocol 2, its carry from another machine if that is newer) and collect it; returns the
+    collected directory. With ``until`` (HH:MM) train.py pauses the run at its last resume point
+    before then; a paused v2 run is packed into its carry (``carry_dir``, committed so that the next
+    machine continues it) and None is returned. A finished run's carry is deleted."""
     out = (work_dir or (WORK_DIR if protocol == 1 else WORK_DIR_V2)) / f"{algo}_s{seed}"
     if protocol >= 2:
         check_v2_bank()
+    carried = carry_path(algo, seed, carry_dir) if protocol >= 2 else None
     lock = _take_lock(out, f"{algo} seed {seed}")
     try:
         args = train_args(algo, seed, out, budget, threads, protocol)
+        if carried is not None and carried.exists():
+            try:
+                carry.unpack(carried, out, start_bank_path(DEFAULT_TIER))
+                print(f"protocol run: continuing from its carry {carry.describe(carried)}", flush=True)
+            except carry.CarryError as err:
+                print(f"protocol run: the carry is not used: {err}", flush=True)
         if (out / "checkpoints").exists():
             args.append("--resume")
+        if until is not None:
+            args += ["--until", until]
         t0 = time.time()
         print(f"protocol run: {algo} seed {seed}, {budget:,} steps -> {out}", flush=True)
         # train.py as its own process (the library does not import the script above it); the lock
@@ -234,11 +264,22 @@ def train_run(algo: str, seed: int, budget: int = P.STEP_BUDGET_PER_RUN, trained
         lock.unlink(missing_ok=True)
     if rc:
         raise SystemExit(f"train.py failed ({rc}) for {algo} seed {seed}")
+    if json.loads((out / "config.json").read_text()).get("paused"):
+        if carried is None:
+            print(f"protocol run: {algo} seed {seed} paused in {out}; the same command continues it", flush=True)
+            return None
+        carry.pack(out, carried)
+        print(f"protocol run: {algo} seed {seed} paused; carried to {carry.describe(carried)}: commit it, and the "
+              "same command continues the run on any machine", flush=True)
+        return None
     dst = collected_dir(algo, seed, trained_dir)
     if protocol >= 2:
         export_v2(out)
     collect(out, dst, COLLECT if protocol == 1 else COLLECT_V2)
     print(f"collected into {dst} ({(time.time() - t0) / 60:.1f} min)", flush=True)
+    if carried is not None and carried.exists():
+        carried.unlink()
+        print(f"its carry {carried} is deleted (the run is collected): commit the deletion", flush=True)
     return dst
 
 
@@ -305,6 +346,10 @@ def main(argv: list[str] | None = None) -> int:
     g.add_argument("--ship", action="store_true", help="copy each algorithm's best run to agents/pretrained/")
     ap.add_argument("--run", type=int, default=0, help="run index (0 .. seeds-1) with --algo")
     ap.add_argument("--threads", type=int, help="numba threads per run (train.py --threads; default one per env, at most the cores)")
+    ap.add_argument("--until", metavar="HH:MM",
+                    help="pause the run at its last resume point before this time (train.py --until); protocol 2 "
+                         "packs a paused run into carry/protocol_v2/<algo>_s<seed>.tar.xz, to commit: the same "
+                         "command continues it on any machine")
     ap.add_argument("--protocol", type=int, choices=(1, 2), default=P.PROTOCOL_VERSION,
                     help="1: protocol v1's runs (agents/trained/); 2: protocol v2's (agents/trained_v2/) "
                          "(default %(default)s, the board's)")
@@ -314,13 +359,17 @@ def main(argv: list[str] | None = None) -> int:
     trained = TRAINED_DIR_V2 if v2 else TRAINED_DIR
     budget = P.V2_STEP_BUDGET_PER_RUN if v2 else P.STEP_BUDGET_PER_RUN
     work = WORK_DIR_V2 if v2 else WORK_DIR
-    kw = dict(budget=budget, trained_dir=trained, work_dir=work, threads=a.threads, protocol=a.protocol)
+    kw = dict(budget=budget, trained_dir=trained, work_dir=work, threads=a.threads, protocol=a.protocol, until=a.until)
+    if a.until is not None:
+        from agents.clock import deadline
+        deadline(a.until)                # SystemExit naming --until on a malformed time
     if a.threads is not None and a.threads < 1:
         ap.error(f"--threads must be >= 1, got {a.threads}")
     if a.list:
         for algo, k, seed in runs:
+            carried = carry_path(algo, seed) if v2 else None
             state = ("done" if is_done(algo, seed, trained, budget) else "training" if is_running(algo, seed, work)
-                     else "to do")
+                     else f"paused ({carry.describe(carried)})" if carried is not None and carried.exists() else "to do")
             print(f"{algo:9s} run {k} seed {seed:6d}: {state}{run_summary(algo, seed, trained)}")
         print(f"protocol {a.protocol}: budget {budget:,} env steps per run")
         return 0
