@@ -7,6 +7,7 @@ the integrator's accuracy and the paper's reproduction. Declared as in
 from __future__ import annotations
 
 import functools
+import shlex
 from pathlib import Path
 
 from bearing_gym.task import DEFAULT_TIER, EPISODE_STEPS
@@ -79,7 +80,7 @@ def _board(prof: Profile, L) -> list[Product]:
                                 (Part("breakdown", breakdown.main, (argv,), PART_OVERHEAD_S),),
                                 upstream=("board", f"references:{t}"), settings={"row": prof.breakdown_row},
                                 command=f"python -m agents.leaderboard.breakdown --tier {t} --row "
-                                        f"{prof.breakdown_row} --out docs/score_breakdown_{t}.md"))
+                                        f"{shlex.quote(prof.breakdown_row)} --out docs/score_breakdown_{t}.md"))
     return out_list
 
 

@@ -66,9 +66,9 @@ class Profile:
     examples: bool = False
     #: the industry and model-based baselines' products (protocol v2; agents.regenerate.catalogue):
     #: feedback_episodes/_rounds (validation seeds), schedule_episodes/_rounds (training seeds), the
-    #: speed schedules' kinds. None: not products of this profile (the full profile's join the
-    #: catalogue once every tier's are computed: FULL_BASELINES; until then their hand-run commands
-    #: make them, resumable)
+    #: speed schedules' kinds. None: not products of this profile (the full profile's are
+    #: FULL_BASELINES; each tier's were first made by their hand-run commands, resumable, and
+    #: adopted)
     baselines: dict[str, Any] | None = None
 
     def board_for(self, tier: str) -> Settings:
@@ -99,7 +99,8 @@ FULL = Profile(
     tier_gap={"tier": "transient", "seed": P.TIER_DESIGN.start, "episodes": 20, "grid_step": 50.0, "horizon": 10,
               "replan_every": 5},
     traces={"episodes": 2, "grid_step_n": P.HINDSIGHT_GRID_STEP_N},
-    learning_curves=trained_runs(early=False), bench_accuracy=True, reproduction=True, examples=True)
+    learning_curves=trained_runs(early=False), bench_accuracy=True, reproduction=True, examples=True,
+    baselines=FULL_BASELINES)
 
 _COARSE = SMOKE.hindsight_grid_step_n     # 300, 1150, 2000 N
 
