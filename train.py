@@ -254,6 +254,11 @@ def protocol_defaults(args: argparse.Namespace) -> argparse.Namespace:
     return args
 
 
+def tensorboard_installed() -> bool:
+    import importlib.util
+    return importlib.util.find_spec("tensorboard") is not None
+
+
 def earlier_wall_s(out: Path, resumed: bool) -> float:
     """The training wall time of a resumed run's earlier sessions (config.json of its last pause or
     end; 0 for a new run or when no session recorded one)."""
@@ -282,9 +287,10 @@ def main(argv: list[str] | None = None) -> int:
                          f"one per core unless NUMBA_NUM_THREADS says otherwise), got {args.threads}")
     if args.val_episodes < 1:
         raise SystemExit("train.py: --val-episodes must be >= 1")
+    pause_by = None
     if args.until is not None:
         from agents.clock import deadline
-        deadline(args.until)             # SystemExit naming --until on a malformed time, before any work
+        pause_by = deadline(args.until).timestamp()   # once, before any work (SystemExit on a malformed time)
     from agents.evaluation.episodes import TEST_SEED
     n_val_envs = args.val_episodes      # one episode per env: env i runs the scenario of val_seed + i
     if args.val_seed < TEST_SEED + max(args.eval_episodes, 1) and TEST_SEED < args.val_seed + n_val_envs:
@@ -328,6 +334,8 @@ def main(argv: list[str] | None = None) -> int:
         restore_selection(out / "eval", ckpt_dir, steps, args.snapshot_at)
         env = VecNormalize.load(str(ckpt_dir / f"model_vecnormalize_{steps}_steps.pkl"), env)
         model = algo_cls.load(last, env=env, device="cpu")
+        # the saved model names the tensorboard directory of the machine that trained it; here, this run's
+        model.tensorboard_log = str(out / "tensorboard") if tensorboard_installed() else None
         print(f"resuming from {last} ({steps} steps)")
         if off_policy:
             buffer = ckpt_dir / f"model_replay_buffer_{steps}_steps.pkl"
@@ -346,13 +354,8 @@ def main(argv: list[str] | None = None) -> int:
         # does, and protocol v2's search); protocol v1's runs used SB3's default 0.99
         env = VecNormalize(env, norm_obs=True, norm_reward=True, clip_obs=10.0,
                            gamma=hp.get("gamma", 0.99) if args.protocol >= 2 else 0.99)
-        try:
-            import tensorboard  # noqa: F401
-            tb = str(out / "tensorboard")
-        except ImportError:
-            tb = None
         model = algo_cls(policy, env, seed=args.seed, device="cpu", verbose=0,
-                         tensorboard_log=tb, **hp)
+                         tensorboard_log=str(out / "tensorboard") if tensorboard_installed() else None, **hp)
     tb_dir = Path(model.tensorboard_log) if model.tensorboard_log else None
     eval_env = VecNormalize(eval_env, norm_obs=True, norm_reward=False, training=False)
     per_env = max(1, args.n_envs)
@@ -366,9 +369,8 @@ def main(argv: list[str] | None = None) -> int:
                      name_prefix="model", save_vecnormalize=True, save_replay_buffer=off_policy),
     ])
     stop = None
-    if args.until is not None:
-        from agents.clock import deadline
-        stop = StopBefore(deadline(args.until).timestamp(), every=max(1, (args.checkpoint_freq or args.eval_freq) // per_env))
+    if pause_by is not None:
+        stop = StopBefore(pause_by, every=max(1, (args.checkpoint_freq or args.eval_freq) // per_env))
         callbacks.callbacks.append(stop)
     # SB3 counts total_timesteps on top of num_timesteps when it does not reset them
     remaining = args.timesteps - model.num_timesteps if resumed else args.timesteps
@@ -386,7 +388,7 @@ def main(argv: list[str] | None = None) -> int:
                     reset_num_timesteps=not resumed)
     else:
         print(f"{model.num_timesteps} steps already done (--timesteps {args.timesteps}): no training")
-    if stop is not None and stop.paused:
+    if stop is not None and stop.paused and model.num_timesteps < args.timesteps:   # not at the budget's end
         return pause(out, args, model, t0, resumed)
     model.save(out / "last_model.zip")
     env.save(str(out / "last_vec_normalize.pkl"))

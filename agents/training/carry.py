@@ -23,13 +23,13 @@ generators of the environments and of torch are not checkpointed by SB3), as wit
 
 from __future__ import annotations
 
-import io
 import json
 import os
+import shutil
 import tarfile
 from pathlib import Path
 
-__all__ = ["pack", "unpack", "carry_steps", "describe", "CarryError"]
+__all__ = ["pack", "unpack", "carry_steps", "describe", "CarryError", "CarryNotNewer"]
 
 CHECKPOINT_FILES = ("model_{n}_steps.zip", "model_vecnormalize_{n}_steps.pkl", "model_replay_buffer_{n}_steps.pkl")
 XZ_PRESET = 9
@@ -37,6 +37,10 @@ XZ_PRESET = 9
 
 class CarryError(ValueError):
     """A carry that cannot be made or used: the message says why and what to do."""
+
+
+class CarryNotNewer(CarryError):
+    """The work directory already holds a checkpoint at least as far as the carry's: resume from it."""
 
 
 def _newest_checkpoint(work: Path) -> int:
@@ -67,6 +71,9 @@ def pack(work: Path, dst: Path) -> Path:
                            f"checkpoints/model_vecnormalize_{steps}_steps.pkl") if not (work / n).exists()]
     if missing:
         raise CarryError(f"{work}: {', '.join(missing)} missing; the run cannot be resumed from it")
+    if dst.exists() and carry_steps(dst) > steps:
+        raise CarryError(f"{dst} holds this run paused at {carry_steps(dst):,} steps, further than the {steps:,} of "
+                         f"{work}: it is not replaced (continue the run from the carry)")
     dst.parent.mkdir(parents=True, exist_ok=True)
     tmp = dst.with_name(dst.name + ".tmp")
     with tarfile.open(tmp, "w:xz", preset=XZ_PRESET) as tar:
@@ -85,49 +92,82 @@ def _members(tar: tarfile.TarFile) -> list[tarfile.TarInfo]:
     return members
 
 
+def _read_json(tar: tarfile.TarFile, name: str) -> dict:
+    try:
+        return json.load(tar.extractfile(name))
+    except KeyError:
+        raise CarryError(f"{tar.name}: no {name} in it: not a carry of this tool") from None
+
+
+def _open(src: Path) -> tarfile.TarFile:
+    try:
+        return tarfile.open(src, "r:xz")
+    except (OSError, tarfile.TarError, EOFError) as err:   # missing, truncated, not xz
+        raise CarryError(f"{src}: cannot be read as a carry ({err})") from None
+
+
 def carry_steps(src: Path) -> int:
     """The env steps at which the carried run was paused (its config.json)."""
-    with tarfile.open(src, "r:xz") as tar:
+    with _open(src) as tar:
         _members(tar)
-        return int(json.load(tar.extractfile("config.json"))["num_timesteps"])
+        return int(_read_json(tar, "config.json")["num_timesteps"])
 
 
 def unpack(src: Path, work: Path, bank_path: Path | None = None) -> int:
-    """Restore the carry ``src`` into the work directory ``work`` (whose checkpoints, if any, are
-    older: CarryError otherwise), ready for ``train.py --resume``. ``start_bank.json`` names the
-    bank by absolute path; on another machine or checkout it is pointed at ``bank_path`` (this
-    checkout's bank) when that bank has the recorded kernel hash and size (CarryError otherwise:
-    the run would train on other starts). Returns the steps of the restored checkpoint."""
+    """Restore the carry ``src`` into the work directory ``work``, ready for ``train.py --resume``:
+    CarryNotNewer if ``work`` already holds a checkpoint at least as far. The carry's files replace
+    the run's state in ``work`` (its checkpoints/ and eval/ of another trajectory are removed), all at
+    once: they are extracted beside it first. ``start_bank.json`` names the bank by absolute path;
+    on another machine or checkout it is pointed at ``bank_path`` (this checkout's bank) when that
+    bank has the recorded kernel hash and size (CarryError otherwise: the run would train on other
+    starts). Returns the steps of the restored checkpoint."""
     src, work = Path(src), Path(work)
     steps = carry_steps(src)
     if (work / "checkpoints").exists() and any((work / "checkpoints").glob("model_*_steps.zip")):
         here = _newest_checkpoint(work)
         if here >= steps:
-            raise CarryError(f"{work} already holds a checkpoint at {here:,} steps, not older than the carry's "
-                             f"{steps:,}: resume from it instead")
-    with tarfile.open(src, "r:xz") as tar:
-        members = _members(tar)
-        record = json.load(tar.extractfile("start_bank.json"))
-        if record.get("path") and bank_path is not None and record["path"] != str(Path(bank_path).resolve()):
-            from bearing_gym.envs import start_bank as banks
-            bank = banks.load(bank_path)
-            if bank.kernel_hash != record["kernel_hash"] or len(bank) != record["starts"]:
-                raise CarryError(f"{src}: the run trained on a start bank of {record['starts']} starts made by kernel "
-                                 f"{record['kernel_hash']}; {bank_path} holds {len(bank)} by {bank.kernel_hash}")
-            record["path"] = str(Path(bank_path).resolve())
-        work.mkdir(parents=True, exist_ok=True)
-        for m in members:
-            target = work / m.name
-            target.parent.mkdir(parents=True, exist_ok=True)
-            target.write_bytes(tar.extractfile(m).read())
-    (work / "start_bank.json").write_text(json.dumps(record, indent=2))
+            raise CarryNotNewer(f"{work} already holds a checkpoint at {here:,} steps, not older than the carry's "
+                                f"{steps:,}: resume from it instead")
+    staging = work.with_name(work.name + ".unpacking")
+    shutil.rmtree(staging, ignore_errors=True)
+    try:
+        with _open(src) as tar:
+            members = _members(tar)
+            record = _read_json(tar, "start_bank.json")
+            if record.get("path") and bank_path is not None and record["path"] != str(Path(bank_path).resolve()):
+                from bearing_gym.envs import start_bank as banks
+                bank = banks.load(bank_path)
+                if bank.kernel_hash != record["kernel_hash"] or len(bank) != record["starts"]:
+                    raise CarryError(f"{src}: the run trained on a start bank of {record['starts']} starts made by "
+                                     f"kernel {record['kernel_hash']}; {bank_path} holds {len(bank)} by {bank.kernel_hash}")
+                record["path"] = str(Path(bank_path).resolve())
+            for m in members:
+                target = staging / m.name
+                target.parent.mkdir(parents=True, exist_ok=True)
+                target.write_bytes(tar.extractfile(m).read())
+        (staging / "start_bank.json").write_text(json.dumps(record, indent=2))
+    except (OSError, tarfile.TarError, EOFError) as err:
+        shutil.rmtree(staging, ignore_errors=True)
+        raise CarryError(f"{src}: cannot be unpacked ({err})") from None
+    except BaseException:
+        shutil.rmtree(staging, ignore_errors=True)
+        raise
+    work.mkdir(parents=True, exist_ok=True)
+    for old in ("checkpoints", "eval"):
+        shutil.rmtree(work / old, ignore_errors=True)
+    for entry in staging.iterdir():
+        target = work / entry.name
+        if target.is_dir():
+            shutil.rmtree(target)
+        os.replace(entry, target)
+    staging.rmdir()
     return steps
 
 
 def describe(src: Path) -> str:
     """One line: the carry's steps, training time so far and size."""
-    with tarfile.open(src, "r:xz") as tar:
+    with _open(src) as tar:
         _members(tar)
-        cfg = json.load(io.BytesIO(tar.extractfile("config.json").read()))
+        cfg = _read_json(tar, "config.json")
     return (f"{src.name}: paused at {cfg['num_timesteps']:,} of {cfg['timesteps']:,} steps after "
             f"{cfg['train_wall_s'] / 60:.1f} min of training, {src.stat().st_size / 1e6:.1f} MB")

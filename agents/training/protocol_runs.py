@@ -244,8 +244,10 @@ def train_run(algo: str, seed: int, budget: int = P.STEP_BUDGET_PER_RUN, trained
             try:
                 carry.unpack(carried, out, start_bank_path(DEFAULT_TIER))
                 print(f"protocol run: continuing from its carry {carry.describe(carried)}", flush=True)
-            except carry.CarryError as err:
+            except carry.CarryNotNewer as err:
                 print(f"protocol run: the carry is not used: {err}", flush=True)
+            except carry.CarryError as err:     # a fresh start would discard the carried progress
+                raise SystemExit(f"protocol run: {algo} seed {seed} has a carry that cannot be used: {err}") from None
         if (out / "checkpoints").exists():
             args.append("--resume")
         if until is not None:
@@ -268,7 +270,10 @@ def train_run(algo: str, seed: int, budget: int = P.STEP_BUDGET_PER_RUN, trained
         if carried is None:
             print(f"protocol run: {algo} seed {seed} paused in {out}; the same command continues it", flush=True)
             return None
-        carry.pack(out, carried)
+        try:
+            carry.pack(out, carried)
+        except carry.CarryError as err:
+            raise SystemExit(f"protocol run: {algo} seed {seed} paused in {out}, not carried: {err}") from None
         print(f"protocol run: {algo} seed {seed} paused; carried to {carry.describe(carried)}: commit it, and the "
               "same command continues the run on any machine", flush=True)
         return None

@@ -107,6 +107,8 @@ def test_a_paused_run_is_carried_to_another_directory_and_finishes_there(tmp_pat
     with pytest.raises(carry.CarryError, match="not older than the carry's"):
         carry.unpack(archive, other, bank_b)
 
+    import shutil
+    shutil.rmtree(out)                                       # the first machine is gone
     import train
     monkeypatch.setattr(train, "start_bank_path", lambda tier: bank_b)
     drawn.clear()
@@ -120,6 +122,8 @@ def test_a_paused_run_is_carried_to_another_directory_and_finishes_there(tmp_pat
     done = json.loads((other / "config.json").read_text())
     assert not done.get("paused") and done["num_timesteps"] == 128 and (other / "model.zip").exists()
     assert done["train_wall_s"] > cfg["train_wall_s"]        # the first machine's time counts
+    # the resumed model logs to this machine's run directory, not to the first machine's
+    assert not out.exists()
     with np.load(other / "eval" / "evaluations.npz") as log:
         assert list(log["timesteps"]) == [32, 64, 96, 128]   # the carried validation history goes on
     from bearing_gym.envs import start_bank as banks
@@ -145,6 +149,47 @@ def test_only_a_paused_run_is_carried_and_a_foreign_bank_is_refused(tmp_path, mo
     (empty / "config.json").write_text(json.dumps(dict(cfg, paused=True)))
     with pytest.raises(carry.CarryError, match="no checkpoint"):
         carry.pack(empty, tmp_path / "e.tar.xz")
+
+
+def test_a_pause_due_at_the_budgets_end_is_the_runs_end(tmp_path, monkeypatch):
+    """The deadline is now, and the first resume point is the budget's last step: the run ends
+    there as a finished run (model.zip, no pause), not as a pause with nothing left to train."""
+    sys.path.insert(0, str(ROOT))
+    import train
+    monkeypatch.setattr("agents.clock.deadline", lambda text: datetime.now())
+    out = tmp_path / "run"
+    assert train.main(["--algo", "sac", "--n-envs", "2", "--episode-steps", "16", "--eval-episodes", "0",
+                       "--val-episodes", "2", "--eval-freq", "32", "--out", str(out), "--no-progress",
+                       "--timesteps", "32", "--until", "23:59", "--start-bank", "none"]) == 0
+    cfg = json.loads((out / "config.json").read_text())
+    assert not cfg.get("paused") and cfg["num_timesteps"] == 32 and (out / "model.zip").exists()
+
+
+def test_a_carry_replaces_the_state_of_another_trajectory_and_is_not_overwritten_by_a_shorter_one(tmp_path, monkeypatch):
+    out, bank_a, _ = _paused_run(tmp_path, monkeypatch)
+    archive = carry.pack(out, tmp_path / "c.tar.xz")
+    # a work directory left by another attempt, older than the carry: its checkpoints and
+    # validation record go, the carry's come
+    other = tmp_path / "other"
+    (other / "checkpoints").mkdir(parents=True)
+    (other / "checkpoints" / "model_16_steps.zip").write_text("another trajectory")
+    (other / "eval").mkdir()
+    (other / "eval" / "best.json").write_text("{}")
+    assert carry.unpack(archive, other, bank_a) == 32
+    assert sorted(f.name for f in (other / "checkpoints").iterdir()) == [
+        "model_32_steps.zip", "model_replay_buffer_32_steps.pkl", "model_vecnormalize_32_steps.pkl"]
+    assert json.loads((other / "eval" / "best.json").read_text())["num_timesteps"] == 32
+    assert not (tmp_path / "other.unpacking").exists()
+    # a carry further than the run being packed is kept
+    cfg = json.loads((out / "config.json").read_text())
+    for name in ("model_32_steps.zip", "model_vecnormalize_32_steps.pkl"):
+        (out / "checkpoints" / name).rename(out / "checkpoints" / name.replace("32", "16"))
+    (out / "config.json").write_text(json.dumps(dict(cfg, num_timesteps=16)))
+    with pytest.raises(carry.CarryError, match="paused at 32 steps, further than the 16"):
+        carry.pack(out, archive)
+    assert carry.carry_steps(archive) == 32
+    with pytest.raises(carry.CarryError, match="cannot be read as a carry"):
+        carry.carry_steps(tmp_path / "missing.tar.xz")
 
 
 def test_a_carry_with_a_path_outside_the_run_is_refused(tmp_path):
@@ -194,3 +239,8 @@ def test_protocol_runs_pack_a_paused_v2_run_and_continue_it_from_the_carry(tmp_p
     assert (tmp_path / "w2" / "tqc_s2000" / "checkpoints" / "model_replay_buffer_10000_steps.pkl").read_text() == \
         "model_replay_buffer_10000_steps.pkl"
     assert carry.carry_steps(archive) == 20000            # the carry now holds the later pause
+    # a carry that cannot be used stops the run instead of starting it afresh over the carried progress
+    archive.write_bytes(b"not an archive")
+    with pytest.raises(SystemExit, match="has a carry that cannot be used"):
+        T.train_run("tqc", 2000, work_dir=tmp_path / "w3", **kw)
+    assert not (tmp_path / "w3" / "tqc_s2000" / "argv.json").exists()
