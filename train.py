@@ -46,6 +46,7 @@ require_extra("train.py")        # the rl extra: SB3, sb3-contrib, torch (before
 
 from agents.paths import start_bank_path  # noqa: E402
 from agents.training.setup import hyperparams, load_start_bank, make_env  # noqa: E402,F401 (train.<name> for tests)
+from agents.training.callbacks import checkpoint_steps  # noqa: E402
 from agents import protocol as P  # noqa: E402
 from agents.protocol import PROTOCOL_VERSION, STEP_BUDGET_PER_RUN, TEST, VALIDATION, VALIDATION_EPISODES_IN_TRAINING, VALIDATION_EVERY_STEPS  # noqa: E402
 from bearing_gym.task import DEFAULT_TIER, EPISODE_STEPS, TIER_NAMES  # noqa: E402
@@ -149,11 +150,6 @@ def bank_draws_made(num_timesteps: int, n_envs: int, episode_steps: int) -> int:
 
 
 BANK_RECORD = "start_bank.json"
-
-
-def checkpoint_steps(path: Path) -> int:
-    """The env steps of a CheckpointCallback file (``model_<steps>_steps.zip``)."""
-    return int(path.stem.split("_")[-2])
 
 
 def start_bank_for_run(args: argparse.Namespace, out: Path, resume_steps: int | None, n_val_envs: int):

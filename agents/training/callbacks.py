@@ -30,7 +30,7 @@ import numpy as np
 from stable_baselines3.common.callbacks import BaseCallback, CheckpointCallback, EvalCallback, ProgressBarCallback
 
 
-__all__ = ["ValidationCallback", "ResumePoints", "StopBefore", "restore_selection", "ProgressLines", "ProgressBar",
+__all__ = ["ValidationCallback", "ResumePoints", "StopBefore", "checkpoint_steps", "restore_selection", "ProgressLines", "ProgressBar",
            "planned_timesteps", "BEST_MODEL", "BEST_VECNORMALIZE", "BEST_INFO"]
 
 BEST_MODEL = "best_model.zip"
@@ -231,6 +231,12 @@ def restore_selection(eval_dir: Path, checkpoint_dir: Path, resume_step: int, sn
           f"return {mean:.1f}); the later validations were on the discarded trajectory", flush=True)
 
 
+def checkpoint_steps(path: Path) -> int:
+    """The env steps of a CheckpointCallback file (``model_<steps>_steps.zip``,
+    ``model_replay_buffer_<steps>_steps.pkl``, ...)."""
+    return int(Path(path).stem.split("_")[-2])
+
+
 class ResumePoints(CheckpointCallback):
     """SB3's ``CheckpointCallback`` that keeps only the newest replay buffer (each is the whole
     buffer, tens of MB late in a run; a resume needs the newest) beside every model checkpoint (small;
@@ -240,7 +246,7 @@ class ResumePoints(CheckpointCallback):
         keep_going = super()._on_step()
         if self.save_replay_buffer and self.n_calls % self.save_freq == 0:
             buffers = sorted(Path(self.save_path).glob(f"{self.name_prefix}_replay_buffer_*_steps.pkl"),
-                             key=lambda f: int(f.stem.split("_")[-2]))
+                             key=checkpoint_steps)
             for old in buffers[:-1]:
                 old.unlink(missing_ok=True)
         return keep_going

@@ -43,11 +43,10 @@ class CarryNotNewer(CarryError):
     """The work directory already holds a checkpoint at least as far as the carry's: resume from it."""
 
 
-def _newest_checkpoint(work: Path) -> int:
-    steps = [int(f.stem.split("_")[-2]) for f in (work / "checkpoints").glob("model_*_steps.zip")]
-    if not steps:
-        raise CarryError(f"{work}/checkpoints holds no checkpoint: nothing to carry")
-    return max(steps)
+def _newest_checkpoint(work: Path) -> int | None:
+    """The steps of the newest model checkpoint in ``work/checkpoints`` (None: there is none)."""
+    from agents.training.callbacks import checkpoint_steps   # SB3's file names; SB3 only when used
+    return max((checkpoint_steps(f) for f in (work / "checkpoints").glob("model_*_steps.zip")), default=None)
 
 
 def pack(work: Path, dst: Path) -> Path:
@@ -60,6 +59,8 @@ def pack(work: Path, dst: Path) -> Path:
         raise CarryError(f"{cfg_path}: missing; only a run paused by train.py --until can be carried")
     cfg = json.loads(cfg_path.read_text())
     steps = _newest_checkpoint(work)
+    if steps is None:
+        raise CarryError(f"{work}/checkpoints holds no checkpoint: nothing to carry")
     if not cfg.get("paused") or cfg.get("num_timesteps") != steps:
         raise CarryError(f"{work}: config.json does not record a pause at the newest checkpoint ({steps:,} steps); "
                          "only a run paused by train.py --until can be carried")
@@ -71,8 +72,9 @@ def pack(work: Path, dst: Path) -> Path:
                            f"checkpoints/model_vecnormalize_{steps}_steps.pkl") if not (work / n).exists()]
     if missing:
         raise CarryError(f"{work}: {', '.join(missing)} missing; the run cannot be resumed from it")
-    if dst.exists() and carry_steps(dst) > steps:
-        raise CarryError(f"{dst} holds this run paused at {carry_steps(dst):,} steps, further than the {steps:,} of "
+    carried = carry_steps(dst) if dst.exists() else None
+    if carried is not None and carried > steps:
+        raise CarryError(f"{dst} holds this run paused at {carried:,} steps, further than the {steps:,} of "
                          f"{work}: it is not replaced (continue the run from the carry)")
     dst.parent.mkdir(parents=True, exist_ok=True)
     tmp = dst.with_name(dst.name + ".tmp")
@@ -123,11 +125,10 @@ def unpack(src: Path, work: Path, bank_path: Path | None = None) -> int:
     starts). Returns the steps of the restored checkpoint."""
     src, work = Path(src), Path(work)
     steps = carry_steps(src)
-    if (work / "checkpoints").exists() and any((work / "checkpoints").glob("model_*_steps.zip")):
-        here = _newest_checkpoint(work)
-        if here >= steps:
-            raise CarryNotNewer(f"{work} already holds a checkpoint at {here:,} steps, not older than the carry's "
-                                f"{steps:,}: resume from it instead")
+    here = _newest_checkpoint(work)
+    if here is not None and here >= steps:
+        raise CarryNotNewer(f"{work} already holds a checkpoint at {here:,} steps, not older than the carry's "
+                            f"{steps:,}: resume from it instead")
     staging = work.with_name(work.name + ".unpacking")
     shutil.rmtree(staging, ignore_errors=True)
     try:
