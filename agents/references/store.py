@@ -52,7 +52,7 @@ from agents.evaluation.result import EvalResult
 from agents.paths import DATA_DIR
 
 
-__all__ = ["STORE_PATH", "ValidationChoice", "load_choice", "save_choice", "validation_problems", "rebuild_command", "validation_episodes",
+__all__ = ["STORE_PATH", "ValidationChoice", "load_choice", "save_choice", "validation_problems", "only_the_rule_differs", "rebuild_command", "validation_episodes",
            "StoredReferences", "references_path", "parts_dir", "stored_hindsight", "load_references", "result_to_json", "result_from_json",
            "STALE_TOLERANCE", "DATA_DIR"]
 
@@ -248,6 +248,15 @@ def validation_problems(tier: str, path: str | Path, episodes: int, episode_step
     if c.episode_returns is None:
         out.append("episode_returns: not stored (a choice made now stores every candidate's per-episode returns)")
     return out
+
+
+def only_the_rule_differs(tier: str, path: str | Path, episodes: int, episode_steps: int,
+                          grid_step_n: float) -> bool:
+    """Whether the stored choice of ``tier`` is today's sweep (this kernel, these validation
+    episodes and grid, every per-episode return) picked by another rule than the protocol's: it
+    can then be picked again from its stored returns (:func:`agents.references.validation.repicked`)."""
+    problems = validation_problems(tier, path, episodes, episode_steps, grid_step_n)
+    return bool(problems) and all(p.startswith("rule:") for p in problems)
 
 
 def _brief(v) -> str:

@@ -44,7 +44,7 @@ from agents.protocol import (HINDSIGHT_GRID_STEP_N, VALIDATION, VALIDATION_CONST
 from agents.references.store import STORE_PATH, ValidationChoice, rule_choice, save_choice, validation_episodes
 
 
-__all__ = ["choose_validation_constant", "rechoose", "hindsight_grid", "hindsight_reference", "ContextualConstant", "main"]
+__all__ = ["choose_validation_constant", "repicked", "rechoose", "hindsight_grid", "hindsight_reference", "ContextualConstant", "main"]
 
 
 def choose_validation_constant(tier: str, episodes: int = VALIDATION_CONSTANT_EPISODES,
@@ -69,14 +69,17 @@ def choose_validation_constant(tier: str, episodes: int = VALIDATION_CONSTANT_EP
                             kernel_hash=kernel_hash())
 
 
-def rechoose(tier: str, store: Path = STORE_PATH, rule: str = VALIDATION_RULE) -> ValidationChoice:
-    """The stored choice of ``tier`` picked again by ``rule`` (default: the protocol's) from its
-    stored per-episode validation returns, nothing run, and stored; returns it. A new protocol's
-    rule on the same validation sweep."""
+def repicked(choice: ValidationChoice, rule: str = VALIDATION_RULE) -> ValidationChoice:
+    """``choice`` picked again by ``rule`` (default: the protocol's) from its stored per-episode
+    validation returns, nothing run: a new protocol's rule on the same validation sweep."""
     import dataclasses
+    return dataclasses.replace(choice, preload_n=choice.preload_for_rule(rule), rule=rule)
+
+
+def rechoose(tier: str, store: Path = STORE_PATH, rule: str = VALIDATION_RULE) -> ValidationChoice:
+    """The stored choice of ``tier`` :func:`repicked` by ``rule`` and stored; returns it."""
     from agents.references.store import load_choice
-    old = load_choice(tier, store)
-    new = dataclasses.replace(old, preload_n=old.preload_for_rule(rule), rule=rule)
+    new = repicked(load_choice(tier, store), rule)
     save_choice(new, store)
     return new
 

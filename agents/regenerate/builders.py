@@ -51,10 +51,21 @@ def start_bank(out: Path, tier: str, first: int, stop: int) -> None:
     sb.build(tier, range(first, stop), progress=True).save(out)
 
 
-def validation_constant(tier: str, episodes: int, episode_steps: int, grid_step_n: float):
-    """``python -m agents.references --tier T --episodes N``'s choice (stored by :func:`commit_validation`)."""
-    from agents.protocol import VALIDATION
-    from agents.references.validation import choose_validation_constant
+def validation_constant(tier: str, episodes: int, episode_steps: int, grid_step_n: float, store: Path | None = None):
+    """``python -m agents.references --tier T --episodes N``'s choice (stored by :func:`commit_validation`).
+
+    When ``store`` holds this tier's sweep on the same validation episodes and grid, made by this
+    kernel with every per-episode return, and only its rule is not the protocol's (a new
+    protocol's rule), the stored sweep is picked again by today's rule (``--rechoose``), nothing
+    run: running it again would give the same bits."""
+    from agents.protocol import VALIDATION, VALIDATION_RULE
+    from agents.references.store import load_choice, only_the_rule_differs
+    from agents.references.validation import choose_validation_constant, repicked
+    if store is not None and only_the_rule_differs(tier, store, episodes, episode_steps, grid_step_n):
+        choice = repicked(load_choice(tier, store), VALIDATION_RULE)
+        print(f"validation {tier}: the stored sweep picked again by the rule {choice.rule}: {choice.preload_n:g} N "
+              "(nothing run)")
+        return choice
     return choose_validation_constant(tier, episodes, VALIDATION.start, episode_steps, grid_step_n,
                                       progress=f"validation sweep {tier}: {episodes} episodes")
 

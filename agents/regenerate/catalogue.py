@@ -20,7 +20,7 @@ from agents.policies.contextual import contextual_path
 from agents.policies.oracle import build_table
 from agents.policies.planner import PlannerSettings
 from agents.references import planner_runs
-from agents.references.store import parts_dir, references_path, validation_problems
+from agents.references.store import only_the_rule_differs, parts_dir, references_path, validation_problems
 import agents.regenerate.builders as B
 from agents.regenerate.docs_products import docs_products
 from agents.regenerate.product import (PART_OVERHEAD_S, SETTLE_STEPS, STEP_CORE_S, Layout, Part, Product, env_cost,
@@ -99,8 +99,9 @@ def _references(prof: Profile, L: Layout, tier: str) -> list[Product]:
     test = {"tier": tier, "episodes": s.episodes, "episode_steps": steps}
     return [
         Product(f"validation:{tier}", f"the validation-chosen constant of {tier} (its entry in the store)", (store,),
-                (Part("choice", B.validation_constant, (tier, v_episodes, steps, s.hindsight_grid_step_n),
-                      env_cost(v_episodes, steps, grid), functools.partial(B.commit_validation, store)),),
+                (Part("choice", B.validation_constant, (tier, v_episodes, steps, s.hindsight_grid_step_n, store),
+                      0.0 if only_the_rule_differs(tier, store, v_episodes, steps, s.hindsight_grid_step_n)
+                      else env_cost(v_episodes, steps, grid), functools.partial(B.commit_validation, store)),),
                 settings={"tier": tier, "episodes": v_episodes, "first_seed": P.VALIDATION.start,
                           "episode_steps": steps, "grid_step_n": s.hindsight_grid_step_n, "rule": P.VALIDATION_RULE},
                 digest=functools.partial(json_entry_digest, store, "tiers", tier),

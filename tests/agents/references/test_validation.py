@@ -174,3 +174,35 @@ def test_rechoose_picks_again_by_another_rule_from_the_stored_returns_and_runs_n
     assert (new.preload_n, new.rule) == (1150.0, "one_se_largest")
     stored = load_choice("transient", store)
     assert stored == new and stored.episode_returns == two and stored.mean_returns == (-2.0, -2.9, -3.1)
+
+
+def test_the_regeneration_picks_a_stored_sweep_again_when_only_the_rule_changed(tmp_path, monkeypatch):
+    """A new protocol's rule on today's sweep (agents.regenerate's validation product): the builder
+    picks the stored returns again by today's rule and runs nothing, and the adoption check
+    reads the result as today's; with another difference too (more episodes) it runs the sweep."""
+    from bearing_gym.envs.provenance import kernel_hash
+    from agents import protocol as P
+    from agents.references.store import only_the_rule_differs, validation_problems
+    from agents.regenerate import builders as B
+    store = tmp_path / "c.json"
+    two = ((-1.0, -3.0), (-2.9, -2.9), (-3.1, -3.1))   # 300 N best (mean -2, SE 1): 1150 N within, 2000 N not
+    save_choice(ValidationChoice("transient", 300.0, (50_000, 50_001), 850.0, GRID, (-2.0, -2.9, -3.1), 2,
+                                 episode_returns=two, kernel_hash=kernel_hash(), rule="best_mean"), store)
+    monkeypatch.setattr(P, "VALIDATION_RULE", "one_se_largest")
+    assert only_the_rule_differs("transient", store, 2, 2, 850.0)
+    monkeypatch.setattr(references, "constant_sweep", lambda *a, **k: pytest.fail("the builder ran an episode"))
+    got = B.validation_constant("transient", 2, 2, 850.0, store)
+    assert (got.preload_n, got.rule, got.episode_returns) == (1150.0, "one_se_largest", two)
+    assert load_choice("transient", store).preload_n == 300.0      # stored by the driver's commit, not the builder
+    B.commit_validation(store, got)
+    assert validation_problems("transient", store, 2, 2, 850.0) == []
+
+    class Ran(Exception):
+        pass
+
+    def sweep(*a, **k):
+        raise Ran
+    monkeypatch.setattr(references, "constant_sweep", sweep)
+    assert not only_the_rule_differs("transient", store, 3, 2, 850.0)
+    with pytest.raises(Ran):
+        B.validation_constant("transient", 3, 2, 850.0, store)
