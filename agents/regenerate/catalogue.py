@@ -100,7 +100,7 @@ def _references(prof: Profile, L: Layout, tier: str) -> list[Product]:
     return [
         Product(f"validation:{tier}", f"the validation-chosen constant of {tier} (its entry in the store)", (store,),
                 (Part("choice", B.validation_constant, (tier, v_episodes, steps, s.hindsight_grid_step_n, store),
-                      0.0 if only_the_rule_differs(tier, store, v_episodes, steps, s.hindsight_grid_step_n)
+                      PART_OVERHEAD_S if only_the_rule_differs(tier, store, v_episodes, steps, s.hindsight_grid_step_n)
                       else env_cost(v_episodes, steps, grid), functools.partial(B.commit_validation, store)),),
                 settings={"tier": tier, "episodes": v_episodes, "first_seed": P.VALIDATION.start,
                           "episode_steps": steps, "grid_step_n": s.hindsight_grid_step_n, "rule": P.VALIDATION_RULE},
