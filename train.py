@@ -1,7 +1,8 @@
-"""Train a preload controller with Stable-Baselines3 (PPO, SAC) or sb3-contrib (RecurrentPPO)
-and put it on the leaderboard.
+"""Train a preload controller with Stable-Baselines3 (PPO, SAC) or sb3-contrib (TQC, CrossQ,
+RecurrentPPO) and put it on the leaderboard.
 
-    python train.py                          # the main job: PPO at the leaderboard's budget, then its board (README: time)
+    python train.py --timesteps 100000       # the main job: PPO with protocol v2's settings to 100k steps, then its board (README: time)
+    python train.py                          # the protocol's whole run (300k steps under protocol 2)
     python train.py --algo sac --timesteps 200000 --n-envs 4 --seed 1 --out runs/sac
     python train.py --out runs/ppo --resume  # continue from the last checkpoint in runs/ppo
 
@@ -20,8 +21,8 @@ Training's settled starts come from the start bank shipped for the tier if there
 (bearing_gym/data/start_bank_<tier>.npz, --start-bank auto): each reset then copies a settled state
 (the same bits as settling it) instead of simulating 1.46 s, and training draws the bank's
 scenarios, each once before any repeats (a run of the budget meets none twice; --resume keeps the
-bank and continues its order). --start-bank none draws every start afresh and settles it, as the
-frozen protocol's runs do.
+bank and continues its order). --start-bank none draws every start afresh and settles it, as
+protocol 1's runs did (protocol 2's drew from the bank).
 
 It reports as it goes, in plain lines that read the same in a terminal and in a log file
 (``python train.py > train.log 2>&1``): whether the numba kernels are being compiled (a one-off),
@@ -59,10 +60,11 @@ OFF_POLICY = ("sac", "tqc", "crossq")
 
 
 def build_parser() -> argparse.ArgumentParser:
-    ap = argparse.ArgumentParser(description="Train PPO, SAC or RecurrentPPO on BearingPreload-v0 and put it on "
-                                             "the leaderboard beside the shipped policies and the references.")
+    ap = argparse.ArgumentParser(description="Train PPO, SAC, TQC, CrossQ or RecurrentPPO on BearingPreload-v0 and put "
+                                             "it on the leaderboard beside the shipped policies and the references.")
     ap.add_argument("--algo", choices=ALGOS, default="ppo",
-                    help="ppo, sac (Stable-Baselines3) or ppo_lstm (sb3-contrib's RecurrentPPO, RL Zoo's name)")
+                    help="ppo, sac (Stable-Baselines3), tqc, crossq or ppo_lstm (sb3-contrib's TQC, CrossQ and "
+                         "RecurrentPPO; ppo_lstm is RL Zoo's name)")
     ap.add_argument("--protocol", type=int, choices=(1, 2), default=PROTOCOL_VERSION,
                     help="the protocol whose settings are the defaults (default %(default)s, the board's): 1: the "
                          f"hand-set hyperparameters of agents/hyperparams/, {STEP_BUDGET_PER_RUN:,} steps, "

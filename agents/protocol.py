@@ -45,8 +45,9 @@ __all__ = ["PROTOCOL_VERSION", "TRAIN", "VALIDATION", "TIER_DESIGN", "TEST", "RE
            "preload_grid", "check_protocol"]
 
 #: The protocol's version: a submission (:mod:`agents.submit`) made under another is refused by the
-#: board. 1: the protocol these constants define (100k env steps, hand-set hyperparameters).
-PROTOCOL_VERSION = 1
+#: board. 1: 100k env steps, hand-set hyperparameters (archived in docs/archive/protocol1/).
+#: 2: the V2_ numbers below (300k env steps, tuned hyperparameters, five algorithms x five seeds).
+PROTOCOL_VERSION = 2
 
 TRAIN = range(0, 50_000)
 VALIDATION = range(50_000, 60_000)
@@ -157,8 +158,7 @@ TUNING_TRAIN_SEED = TRAIN.start + 20_000
 
 
 # -- protocol v2 (issue 44): every number of its runs, fixed in a commit before the first one -------
-#: PROTOCOL_VERSION stays 1 (the committed board's) until the v2 board is built from these runs;
-#: then the V2_ numbers become the protocol's and protocol 1 is archived.
+#: The board is built from these runs since PROTOCOL_VERSION became 2 (protocol 1 is archived).
 #: The learned baselines, each tuned by agents.training.tuning (its chosen yml in
 #: agents/hyperparams/v2/<algo>.yml; train.py --protocol 2 reads it), V2_SEEDS training seeds each
 #: (TRAIN.start + k * RUN_SEED_STRIDE, k < V2_SEEDS: the same first seeds as protocol 1).

@@ -26,13 +26,17 @@ ALGORITHM_CLASSES = {"ppo": ("stable_baselines3", "PPO"), "sac": ("stable_baseli
 
 
 def shipped_dirs(pretrained_dir: Path = PRETRAINED_DIR, required: bool = True) -> list[Path]:
-    """The shipped policies' directories (``pretrained_dir/<algo>/`` holding a model.zip), sorted;
-    if there is none: FileNotFoundError saying what to do, or [] when not ``required``."""
-    found = sorted(p for p in pretrained_dir.glob("*") if (p / "model.zip").exists()) if pretrained_dir.exists() else []
+    """The shipped policies' directories (``pretrained_dir/<algo>/`` holding a model.zip or a
+    portable export: protocol 2 ships a run's export alone when the machine that shipped it no
+    longer had the run's SB3 files), sorted; if there is none: FileNotFoundError saying what to
+    do, or [] when not ``required``."""
+    found = sorted(p for p in pretrained_dir.glob("*")
+                   if (p / "model.zip").exists() or (p / PORTABLE_FILE).exists()) if pretrained_dir.exists() else []
     if not found and required:
         raise FileNotFoundError(f"--pretrained: no shipped policy in {pretrained_dir}/<algo>/ (each needs model.zip "
-                                "and vec_normalize.pkl, as train.py writes them); copy the best run of each "
-                                "algorithm there, or leave out --pretrained")
+                                f"and vec_normalize.pkl, as train.py writes them, or {PORTABLE_FILE}); "
+                                "`python -m agents.training.protocol_runs --ship` copies the best run of each "
+                                "algorithm there; or leave out --pretrained")
     return found
 
 

@@ -43,7 +43,8 @@ def build_parser() -> argparse.ArgumentParser:
     g = p.add_argument_group("policy (one of)")
     g.add_argument("--model", metavar="DIR", default=None,
                    help="directory written by train.py (model.zip, config.json and "
-                        "vec_normalize.pkl, whose statistics normalise the observations)")
+                        "vec_normalize.pkl, whose statistics normalise the observations), or a "
+                        "shipped one holding portable_policy.npz and config.json")
     g.add_argument("--policy", metavar="NAME", default=None,
                    help="scripted baseline: constant:N (fixed set-point, N in 300-2000), "
                         "feedback (raise on quasi-periodic vibration, lower slowly), "
@@ -82,14 +83,17 @@ def make_policy(args):
         d = Path(args.model)
         if not d.is_dir():
             raise CLIError(f"--model: no such directory: {d}")
-        for name in ("model.zip", "config.json"):
+        # train.py's directory (model.zip), or a shipped or collected run's portable export alone
+        from agents.policies.portable import PORTABLE_FILE
+        portable = not (d / "model.zip").is_file() and (d / PORTABLE_FILE).is_file()
+        for name in ("config.json",) if portable else ("model.zip", "config.json"):
             if not (d / name).is_file():
                 raise CLIError(f"--model: {d} has no {name} (expected a directory written by "
-                               "train.py)")
+                               "train.py, or one holding portable_policy.npz and config.json)")
         from agents.evaluation.trained import load_trained
 
         try:
-            return load_trained(d)
+            return load_trained(d, portable=portable)
         except Exception as err:  # noqa: BLE001 - a broken zip, an unknown algo, ...
             raise CLIError(f"--model: cannot load {d}: {type(err).__name__}: "
                            f"{one_line(err)}") from None

@@ -20,7 +20,8 @@ gives the same episode: :meth:`Settings.for_tier`):
    the oracle (reward map, nearest cell) and the learned policies: ``--model`` directories
    written by train.py (grouped by algorithm: one directory per training seed) and, with
    ``--pretrained``, the shipped policy of each algorithm in ``agents/pretrained/<algo>/``
-   (``model.zip`` + ``vec_normalize.pkl``, as :func:`agents.evaluation.trained.load_trained` loads them);
+   (``model.zip`` + ``vec_normalize.pkl``, or the portable export alone, as
+   :func:`agents.evaluation.trained.load_trained` loads them);
    every learned policy runs on every tier asked for, its row named "... - trained on <tier>"
    on the others (every tier has the same observation space; on ``field`` a policy trained on
    ``transient`` loses its cage-speed features and meets sensor errors it never saw); only a row

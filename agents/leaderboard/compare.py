@@ -3,8 +3,9 @@
     python -m agents.evaluate --model DIR [DIR ...] [--episodes 20] [--tier transient] [--seed 300000]
     python -m agents.evaluate --pretrained [--episodes 20]      # the shipped policies of agents/pretrained/
 
-Runs the trained policy in each DIR (``model.zip`` + ``vec_normalize.pkl`` from ``train.py``;
-several DIRs put PPO and SAC side by side) and every scripted baseline on the same seeds (env i
+Runs the trained policy in each DIR (``model.zip`` + ``vec_normalize.pkl`` from ``train.py``, or a
+shipped directory's ``portable_policy.npz``; through the portable float64 path where it covers the
+architecture; several DIRs put PPO and SAC side by side) and every scripted baseline on the same seeds (env i
 of the batch is seeded ``seed + i``, so every policy meets the same scenarios): among them the
 best constant preload chosen on the validation seeds (read from
 ``agents/data/reference_constants.json``, never chosen on these episodes) and, per scenario, the
@@ -58,6 +59,16 @@ def stored_choice(tier: str, store_path: str | Path = STORE_PATH, verbose: bool 
         return None
 
 
+def _load(model_dir: str | Path) -> Policy:
+    """A model directory as the board loads it: through the portable float64 path (a shipped
+    directory may hold its portable export alone), through torch where that path does not cover
+    the architecture."""
+    try:
+        return load_trained(model_dir, portable=True)
+    except ValueError:
+        return load_trained(model_dir)
+
+
 def evaluate(model_dir: str | Path | list[str | Path] | None, episodes: int = 20, seed: int = TEST_SEED,
              episode_steps: int = EPISODE_STEPS, out_dir: str | Path | None = None,
              table_path: str | Path | None = None, verbose: bool = True,
@@ -85,7 +96,7 @@ def evaluate(model_dir: str | Path | list[str | Path] | None, episodes: int = 20
         model_dirs = [model_dir]
     else:
         model_dirs = list(model_dir)
-    policies: list[Policy] = [load_trained(d) for d in model_dirs]
+    policies: list[Policy] = [_load(d) for d in model_dirs]
     policies += baselines(table, oracle_table)
     choice = stored_choice(tier, store_path, verbose)
     grid = preload_grid(grid_step_n)

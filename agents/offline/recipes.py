@@ -11,11 +11,12 @@ unbalance, clearance, waviness) under each behaviour:
   (integer arithmetic and a conversion: the same on every CPU);
 * ``constant``: the tier's validation constant under protocol v2's rule (a value in the recipe,
   checked against the store by the tests, so the recipe does not move when the store does);
-* ``medium``: a shipped learned policy (``agents/pretrained/sac``: protocol 1's SAC, 100k steps),
-  run through its portable inference (the same bits on every CPU, no torch);
+* ``medium``: a shipped learned policy (``agents/pretrained/sac``: protocol 2's shipped SAC, the
+  seed-2000 run's selected checkpoint), run through its portable inference (the same bits on
+  every CPU, no torch);
 * ``expert``: the planner (the true simulator and the episode's whole future, the board's "1"),
-  its plans stored per episode (``agents/data/offline/planner_<tier>/``, the dear part: about a
-  minute of a core per episode) and replayed;
+  its plans stored per episode (``agents/data/offline/planner_<tier>/``, the dear part: about
+  100 s of a core per episode) and replayed;
 * ``mixed``: the episodes of the four on the expert's scenarios, one after another.
 """
 
@@ -120,7 +121,7 @@ def _recipes() -> dict[str, Recipe]:
         Recipe("constant", tier, "constant", 1000, policy={"preload_n": VALIDATION_CONSTANT_N[tier]},
                description="the validation-chosen constant preload (protocol v2's rule)"),
         Recipe("medium", tier, "portable", 1000, policy={"pretrained": MEDIUM_PRETRAINED},
-               description="protocol 1's shipped SAC (100k env steps), deterministic, portable inference"),
+               description="protocol 2's shipped SAC (seed 2000's selected checkpoint), deterministic, portable inference"),
         Recipe("expert", tier, "planner", expert_episodes, part_episodes=20,
                policy={"planner": PlannerSettings().as_dict()},
                description="the planner: the true simulator and the episode's whole future (the board's 1)"),

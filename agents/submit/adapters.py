@@ -13,6 +13,7 @@ from typing import Any, Callable
 
 import numpy as np
 
+from agents.policies.portable import PORTABLE_FILE
 from agents.policies.scripted import Policy
 from agents.submit.actions import check_action_batch
 
@@ -92,10 +93,11 @@ def _is_sb3_model(obj: Any) -> bool:
 def as_policy(obj: Any, name: str = "submitted policy", batched: bool = True) -> Policy:
     """One policy as the board runs it:
 
-    * a train.py run directory (``str`` or ``Path`` holding model.zip): loaded as the board loads
-      it, through the portable float64 path where it covers the architecture (the same actions
-      bit for bit on every CPU; no torch needed once ``portable_policy.npz`` is exported), else
-      through torch;
+    * a train.py run directory (``str`` or ``Path`` holding model.zip), or a shipped or collected
+      run's directory holding its portable export alone (``portable_policy.npz`` and
+      ``config.json``): loaded as the board loads it, through the portable float64 path where it
+      covers the architecture (the same actions bit for bit on every CPU; no torch needed once
+      ``portable_policy.npz`` is exported), else through torch;
     * an SB3 model (PPO, SAC, ...; torch): its deterministic actions, with the observation
       normalisation of its VecNormalize env if it has one (a model loaded from a file has none:
       pass its train.py directory instead, which keeps ``vec_normalize.pkl``);
@@ -107,9 +109,10 @@ def as_policy(obj: Any, name: str = "submitted policy", batched: bool = True) ->
     if isinstance(obj, (str, Path)):
         from agents.evaluation.trained import load_trained
         d = Path(obj)
-        if not (d / "model.zip").exists():
-            raise FileNotFoundError(f"{d}: no model.zip; a path names a train.py run directory (model.zip, "
-                                    "vec_normalize.pkl, config.json)")
+        if not (d / "model.zip").exists() and not (d / PORTABLE_FILE).exists():
+            raise FileNotFoundError(f"{d}: no model.zip and no portable_policy.npz; a path names a train.py run "
+                                    "directory (model.zip, vec_normalize.pkl, config.json) or a shipped one "
+                                    "(portable_policy.npz, config.json)")
         try:
             pol = load_trained(d, portable=True)
         except ValueError:                     # an architecture the portable path does not cover

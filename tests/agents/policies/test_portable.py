@@ -1,18 +1,24 @@
-"""The portable float64 path of the shipped SB3 policies (agents/policies/portable.py) agrees with
-torch's float32 actions to float32 precision, on observations recorded along an episode (with
-the recurrent state carried and reset at an episode start). Its bit-identity across CPUs is
+"""The portable float64 path of the SB3 policies (agents/policies/portable.py) agrees with torch's
+float32 actions to float32 precision, on observations recorded along an episode (with the
+recurrent state carried and reset at an episode start). The SB3 files it is checked against:
+the shipped policies that keep theirs (CrossQ, RecurrentPPO) and protocol 1's PPO and SAC runs
+(protocol 2 ships PPO and SAC as portable exports alone). Its bit-identity across CPUs is
 tests/portability's business (the probe runs the shipped RecurrentPPO through it)."""
 
 import numpy as np
 import pytest
 
 from agents.evaluation.trained import PRETRAINED_DIR, load_trained
+from agents.paths import TRAINED_DIR
 from agents.policies.portable import PortablePolicy, export_arrays
 from bearing_gym.envs import BearingPreloadEnv
 
 #: actions are in [-1, 1]: float32's spacing near 1 is 1.2e-7; torch's float32 network rounds
 #: every layer, so a few of those spacings apart is float32 precision, a wrong weight is not
 TOLERANCE = 5e-7
+#: SB3 model directories (model.zip, vec_normalize.pkl) of each architecture the portable path covers
+SB3_DIRS = {"ppo": TRAINED_DIR / "ppo" / "seed_0", "sac": TRAINED_DIR / "sac" / "seed_0",
+            "ppo_lstm": PRETRAINED_DIR / "ppo_lstm", "crossq": PRETRAINED_DIR / "crossq"}
 
 
 def recorded(policy, steps: int = 40, seed: int = 300002):
@@ -34,10 +40,11 @@ def recorded(policy, steps: int = 40, seed: int = 300002):
     return np.array(obs_list), np.array(starts)
 
 
-@pytest.mark.parametrize("algo", ["ppo", "sac", "ppo_lstm"])
+@pytest.mark.parametrize("algo", sorted(SB3_DIRS))
 def test_portable_actions_match_torch_to_float32_precision(algo):
-    torch_policy = load_trained(PRETRAINED_DIR / algo)
-    portable = load_trained(PRETRAINED_DIR / algo, portable=True)
+    assert (SB3_DIRS[algo] / "model.zip").exists()
+    torch_policy = load_trained(SB3_DIRS[algo])
+    portable = load_trained(SB3_DIRS[algo], portable=True)
     assert isinstance(portable, PortablePolicy) and portable.name == torch_policy.name
     observations, starts = recorded(torch_policy)
     st_t = st_p = None
@@ -88,10 +95,10 @@ def test_an_export_of_other_model_files_is_not_used(tmp_path):
     from agents.evaluation.trained import export
     from agents.policies.portable import is_current
     d = tmp_path / "ppo"
-    shutil.copytree(PRETRAINED_DIR / "ppo", d)
+    shutil.copytree(SB3_DIRS["ppo"], d)
     export(d)
     assert is_current(d)
-    shutil.copy(PRETRAINED_DIR / "sac" / "vec_normalize.pkl", d / "vec_normalize.pkl")   # another run's statistics
+    shutil.copy(SB3_DIRS["sac"] / "vec_normalize.pkl", d / "vec_normalize.pkl")   # another run's statistics
     assert not is_current(d)
     fresh = load_trained(d, portable=True)               # exported again from the files there now
     torch_policy = load_trained(d)
