@@ -1,7 +1,9 @@
 """Trained SB3 models (train.py's directories and the shipped ones in ``agents/pretrained/``)
-behind the scripted-policy interface: :func:`load_trained` through torch, or with
-``portable=True`` in float64 without torch (:class:`agents.policies.portable.PortablePolicy`: the
-same bits on every CPU); :func:`export` writes the portable weights beside ``model.zip``.
+behind the scripted-policy interface: :func:`load_trained` through torch, with ``portable=True``
+in float64 without torch (:class:`agents.policies.portable.PortablePolicy`: the same bits on every
+CPU), or with ``portable="auto"`` as the board loads a model (portable where it covers the
+architecture, torch elsewhere); :func:`is_model_dir` says whether a directory holds a model;
+:func:`export` writes the portable weights beside ``model.zip``.
 
     python -m agents.evaluation.trained DIR [DIR ...]     # writes DIR/portable_policy.npz
 """
@@ -9,7 +11,9 @@ same bits on every CPU); :func:`export` writes the portable weights beside ``mod
 from __future__ import annotations
 
 import json
+import warnings
 from pathlib import Path
+from typing import Literal
 
 import numpy as np
 
@@ -25,13 +29,19 @@ ALGORITHM_CLASSES = {"ppo": ("stable_baselines3", "PPO"), "sac": ("stable_baseli
 
 
 
+def is_model_dir(model_dir: str | Path) -> bool:
+    """Whether ``model_dir`` holds a model :func:`load_trained` can load: train.py's ``model.zip``,
+    or a shipped or collected run's portable export alone (``portable_policy.npz``)."""
+    d = Path(model_dir)
+    return (d / "model.zip").is_file() or (d / PORTABLE_FILE).is_file()
+
+
 def shipped_dirs(pretrained_dir: Path = PRETRAINED_DIR, required: bool = True) -> list[Path]:
     """The shipped policies' directories (``pretrained_dir/<algo>/`` holding a model.zip or a
     portable export: protocol 2 ships a run's export alone when the machine that shipped it no
     longer had the run's SB3 files), sorted; if there is none: FileNotFoundError saying what to
     do, or [] when not ``required``."""
-    found = sorted(p for p in pretrained_dir.glob("*")
-                   if (p / "model.zip").exists() or (p / PORTABLE_FILE).exists()) if pretrained_dir.exists() else []
+    found = sorted(p for p in pretrained_dir.glob("*") if is_model_dir(p)) if pretrained_dir.exists() else []
     if not found and required:
         raise FileNotFoundError(f"--pretrained: no shipped policy in {pretrained_dir}/<algo>/ (each needs model.zip "
                                 f"and vec_normalize.pkl, as train.py writes them, or {PORTABLE_FILE}); "
@@ -58,7 +68,8 @@ class SB3Policy(Policy):
         return np.clip(act, -1.0, 1.0), state
 
 
-def load_trained(model_dir: str | Path, algo: str | None = None, portable: bool = False) -> Policy:
+def load_trained(model_dir: str | Path, algo: str | None = None,
+                 portable: bool | Literal["auto"] = False) -> Policy:
     """The SB3 model in ``model_dir`` (``model.zip``, with ``vec_normalize.pkl`` if there) behind
     the scripted-policy interface. The algorithm is ``algo`` or, if None, ``config.json``'s
     (train.py writes it): one of ALGORITHM_CLASSES.
@@ -66,7 +77,17 @@ def load_trained(model_dir: str | Path, algo: str | None = None, portable: bool 
     ``portable=True``: the same deterministic policy evaluated in float64 without torch
     (:class:`agents.policies.portable.PortablePolicy`; from ``portable_policy.npz`` if it was
     exported from the model files there now, else from the model's weights now): the same
-    actions, bit for bit, on every CPU. ValueError for an architecture it does not cover."""
+    actions, bit for bit, on every CPU. ValueError for an architecture it does not cover.
+
+    ``portable="auto"``: as the board loads every model: the portable path, and through torch
+    (with a warning: its actions are then statistical across CPUs) where that path raises
+    ValueError for the architecture."""
+    if portable == "auto":
+        try:
+            return load_trained(model_dir, algo, portable=True)
+        except ValueError as err:          # an architecture the portable path does not cover
+            warnings.warn(f"{model_dir}: {err}; evaluated through torch (statistical across CPUs)", stacklevel=2)
+            return load_trained(model_dir, algo, portable=False)
     if portable:
         from agents.policies.portable import PortablePolicy, export_arrays, is_current
         if is_current(model_dir):           # exported from these very model files (else: export now)

@@ -84,16 +84,14 @@ def make_policy(args):
         if not d.is_dir():
             raise CLIError(f"--model: no such directory: {d}")
         # train.py's directory (model.zip), or a shipped or collected run's portable export alone
-        from agents.policies.portable import PORTABLE_FILE
-        portable = not (d / "model.zip").is_file() and (d / PORTABLE_FILE).is_file()
-        for name in ("config.json",) if portable else ("model.zip", "config.json"):
-            if not (d / name).is_file():
-                raise CLIError(f"--model: {d} has no {name} (expected a directory written by "
-                               "train.py, or one holding portable_policy.npz and config.json)")
-        from agents.evaluation.trained import load_trained
-
+        from agents.evaluation.trained import is_model_dir, load_trained
+        missing = [n for n, ok in (("model.zip or portable_policy.npz", is_model_dir(d)),
+                                   ("config.json", (d / "config.json").is_file())) if not ok]
+        if missing:
+            raise CLIError(f"--model: {d} has no {' and no '.join(missing)} (expected a directory written by "
+                           "train.py, or one holding portable_policy.npz and config.json)")
         try:
-            return load_trained(d, portable=portable)
+            return load_trained(d, portable="auto")   # as the board loads it
         except Exception as err:  # noqa: BLE001 - a broken zip, an unknown algo, ...
             raise CLIError(f"--model: cannot load {d}: {type(err).__name__}: "
                            f"{one_line(err)}") from None

@@ -59,16 +59,6 @@ def stored_choice(tier: str, store_path: str | Path = STORE_PATH, verbose: bool 
         return None
 
 
-def _load(model_dir: str | Path) -> Policy:
-    """A model directory as the board loads it: through the portable float64 path (a shipped
-    directory may hold its portable export alone), through torch where that path does not cover
-    the architecture."""
-    try:
-        return load_trained(model_dir, portable=True)
-    except ValueError:
-        return load_trained(model_dir)
-
-
 def evaluate(model_dir: str | Path | list[str | Path] | None, episodes: int = 20, seed: int = TEST_SEED,
              episode_steps: int = EPISODE_STEPS, out_dir: str | Path | None = None,
              table_path: str | Path | None = None, verbose: bool = True,
@@ -96,7 +86,7 @@ def evaluate(model_dir: str | Path | list[str | Path] | None, episodes: int = 20
         model_dirs = [model_dir]
     else:
         model_dirs = list(model_dir)
-    policies: list[Policy] = [_load(d) for d in model_dirs]
+    policies: list[Policy] = [load_trained(d, portable="auto") for d in model_dirs]
     policies += baselines(table, oracle_table)
     choice = stored_choice(tier, store_path, verbose)
     grid = preload_grid(grid_step_n)

@@ -66,11 +66,7 @@ def learned_groups(model_dirs: list[str | Path], pretrained: bool,
             groups[key] = LearnedGroup(f"{algo.upper()} ({label})", algo, tier, [], [], [], shipped=shipped,
                                        early_row_steps=early)
         g = groups[key]
-        try:
-            g.policies.append(load_trained(d, algo=algo, portable=True))   # the same bits on every CPU
-        except ValueError as err:                  # an architecture the portable path does not cover
-            print(f"note: {d}: {err}; evaluated through torch (statistical across CPUs)", flush=True)
-            g.policies.append(load_trained(d, algo=algo))
+        g.policies.append(load_trained(d, algo=algo, portable="auto"))   # the same bits on every CPU where covered
         g.seeds.append(cfg.get("seed"))
         g.timesteps.append(cfg.get("selected_timesteps", cfg.get("num_timesteps")))
         g.dirs.append(str(d))

@@ -13,7 +13,6 @@ from typing import Any, Callable
 
 import numpy as np
 
-from agents.policies.portable import PORTABLE_FILE
 from agents.policies.scripted import Policy
 from agents.submit.actions import check_action_batch
 
@@ -107,16 +106,13 @@ def as_policy(obj: Any, name: str = "submitted policy", batched: bool = True) ->
     * a callable: :class:`CallablePolicy` (``batched``: a batch of observations at once, else one).
     """
     if isinstance(obj, (str, Path)):
-        from agents.evaluation.trained import load_trained
+        from agents.evaluation.trained import is_model_dir, load_trained
         d = Path(obj)
-        if not (d / "model.zip").exists() and not (d / PORTABLE_FILE).exists():
+        if not is_model_dir(d):
             raise FileNotFoundError(f"{d}: no model.zip and no portable_policy.npz; a path names a train.py run "
                                     "directory (model.zip, vec_normalize.pkl, config.json) or a shipped one "
                                     "(portable_policy.npz, config.json)")
-        try:
-            pol = load_trained(d, portable=True)
-        except ValueError:                     # an architecture the portable path does not cover
-            pol = load_trained(d)
+        pol = load_trained(d, portable="auto")
         pol.name = name
         return pol
     if _is_sb3_model(obj):

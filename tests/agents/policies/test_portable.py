@@ -128,3 +128,28 @@ def test_tqc_and_crossq_actors_are_portable(algo):
     a_t, _ = model.predict(obs, deterministic=True)
     a_p, _ = portable.predict(obs)
     assert np.max(np.abs(a_t - a_p)) <= TOLERANCE and len(np.unique(a_p)) > 10
+
+
+def test_auto_loads_portable_where_covered_and_torch_with_a_warning_elsewhere(tmp_path):
+    """``portable="auto"`` (how the board, agents.submit, agents.evaluate and the watch load a
+    model): a covered architecture comes back as the portable policy; one the portable path refuses
+    (gSDE) comes back through torch, with a warning naming why; ``is_model_dir`` tells a model
+    directory (model.zip, or a portable export alone) from an empty one."""
+    import json
+
+    from stable_baselines3 import PPO
+
+    from agents.evaluation.trained import SB3Policy, is_model_dir
+    assert isinstance(load_trained(SB3_DIRS["ppo"], portable="auto"), PortablePolicy)
+    env = BearingPreloadEnv(tier="transient")
+    d = tmp_path / "sde"
+    d.mkdir()
+    assert not is_model_dir(d)
+    PPO("MlpPolicy", env, use_sde=True, n_steps=8, batch_size=8, seed=0, device="cpu").save(d / "model.zip")
+    (d / "config.json").write_text(json.dumps({"algo": "ppo"}))
+    assert is_model_dir(d)
+    with pytest.warns(UserWarning, match="gSDE.*through torch"):
+        policy = load_trained(d, portable="auto")
+    assert isinstance(policy, SB3Policy)
+    a, _ = policy.predict(env.reset(seed=1)[0][None])
+    assert a.shape == (1, 1) and np.all(np.abs(a) <= 1.0)
