@@ -134,7 +134,7 @@ def train(algo: str, dataset: str, seed: int, steps: int = BUDGET_STEPS, root: P
     d3rlpy.seed(seed)
     model = _config(algo).create(device="cpu")
     t0 = time.time()
-    model.fit(to_mdp(ds), n_steps=steps, n_steps_per_epoch=steps, show_progress=False, save_interval=10 ** 9,
+    model.fit(to_mdp(ds), n_steps=steps, n_steps_per_epoch=steps, show_progress=True, save_interval=10 ** 9,
               experiment_name=f"{algo}_{r.name}_s{seed}", with_timestamp=False,
               logger_adapter=d3rlpy.logging.NoopAdapterFactory())
     model.save(str(out / "model.d3"))

@@ -19,6 +19,7 @@ ROOT = Path(__file__).resolve().parents[2]
 EXAMPLES = ROOT / "examples"
 
 
+@pytest.mark.slow          # ~50 s each on 2 cores, most of it the board's 50,000 bootstrap draws (CI runs them)
 @pytest.mark.parametrize("script,row", [("numpy_rule.py", "NumPy rule"), ("cleanrl_actor.py", "CleanRL actor")])
 def test_the_example_scores_its_policy_and_writes_its_submission(script, row, tmp_path):
     assert len((EXAMPLES / script).read_text().splitlines()) < 20

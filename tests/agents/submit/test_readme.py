@@ -6,6 +6,8 @@ import ast
 import json
 from pathlib import Path
 
+import pytest
+
 from tests.agents.helpers import first_python_block
 
 README = Path(__file__).resolve().parents[3] / "README.md"
@@ -16,6 +18,7 @@ def snippet() -> str:
     return first_python_block(README, SECTION)
 
 
+@pytest.mark.slow          # ~40 s on 2 cores, most of it the board's 50,000 bootstrap draws (CI runs it)
 def test_the_readme_snippet_scores_a_rule_and_saves_its_submission(tmp_path, monkeypatch, capsys):
     tree = ast.parse(snippet())
     calls = [n for n in ast.walk(tree) if isinstance(n, ast.Call) and getattr(n.func, "id", None) == "score"]

@@ -198,6 +198,7 @@ def test_validation_scores_every_checkpoint_on_the_same_scenarios(tmp_path, caps
     assert not np.array_equal(np.sort(drawn[0]), np.sort(drawn[1]))
 
 
+@pytest.mark.slow          # ~55 s on 2 cores: a training run end to end (CI runs it)
 def test_recurrent_ppo_trains_saves_and_keeps_its_memory_in_evaluation(tmp_path):
     """train.py --algo ppo_lstm (sb3-contrib's RecurrentPPO, RL Zoo's name) trains, saves and
     loads; evaluation carries the LSTM state through an episode: the policy's action on the
