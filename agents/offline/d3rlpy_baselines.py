@@ -9,6 +9,7 @@ on every CPU), which the scoring API scores (it needs neither torch nor d3rlpy):
 
     python -m agents.offline.d3rlpy_baselines train --algo iql --dataset transient/expert --seed 0
     python -m agents.offline.d3rlpy_baselines score --algo iql --dataset transient/expert   # -> a submission
+    python -m agents.submit add runs/submissions/offline_iql_expert_transient.json        # -> on the board
 
 The budget and seeds are :data:`BUDGET_STEPS` and :data:`SEEDS`, fixed here before any run.
 """
@@ -24,7 +25,7 @@ from typing import Any
 import numpy as np
 
 __all__ = ["ALGOS", "BUDGET_STEPS", "SEEDS", "BATCH_SIZE", "RUNS", "to_mdp", "train", "export_portable",
-           "run_dir", "score_runs", "main"]
+           "run_dir", "default_submission", "score_runs", "main"]
 
 #: the offline rows: (algorithm, dataset) pairs
 RUNS = (("iql", "transient/expert"), ("iql", "transient/mixed"), ("bc", "transient/expert"))
@@ -146,10 +147,16 @@ def train(algo: str, dataset: str, seed: int, steps: int = BUDGET_STEPS, root: P
     return out
 
 
+def default_submission(algo: str, dataset: str, tier: str = "transient") -> Path:
+    """Where ``score`` writes the submission of (algo, dataset) on ``tier``."""
+    return Path("runs") / "submissions" / f"offline_{algo}_{dataset.split('/')[-1]}_{tier}.json"
+
+
 def score_runs(algo: str, dataset: str, tier: str = "transient", root: Path = RUNS_DIR,
                out: Path | None = None, seeds: tuple[int, ...] = SEEDS, episodes: int | None = None) -> Any:
     """Score every seed's portable export of (algo, dataset) on ``tier``'s test episodes through
-    the scoring API; writes the submission (default: docs/submissions/offline_<algo>_<name>_<tier>.json)."""
+    the scoring API; writes the submission (default: runs/submissions/offline_<algo>_<name>_<tier>.json),
+    which ``python -m agents.submit add FILE`` puts on the board (and keeps beside it)."""
     from agents.policies.portable import PortablePolicy
     from agents.submit import score
     name = f"{algo.upper()} offline on {dataset.split('/')[-1]}"
@@ -159,7 +166,7 @@ def score_runs(algo: str, dataset: str, tier: str = "transient", root: Path = RU
         raise FileNotFoundError(f"{name}: no trained run in {missing[0]}; train it first (in the offline venv)")
     cfg = json.loads((dirs[0] / "config.json").read_text())
     scored = score([PortablePolicy.load(d, name=name) for d in dirs], tier=tier, name=name, episodes=episodes)
-    path = out or Path("docs") / "submissions" / f"offline_{algo}_{dataset.split('/')[-1]}_{tier}.json"
+    path = out or default_submission(algo, dataset, tier)
     scored.save(path, algorithm=f"{algo.upper()} (d3rlpy, offline on {cfg['dataset']})", training_steps=0,
                 training_seeds=list(seeds), library="d3rlpy", library_version=cfg["library_version"],
                 code="agents/offline/d3rlpy_baselines.py",
@@ -189,6 +196,8 @@ def main(argv: list[str] | None = None) -> int:
         print(train(a.algo, a.dataset, a.seed, a.steps, Path(a.root)))
     else:
         print(score_runs(a.algo, a.dataset, a.tier, Path(a.root)).markdown())
+        print(f"wrote {default_submission(a.algo, a.dataset, a.tier)}; put it on the board with "
+              f"`python -m agents.submit add {default_submission(a.algo, a.dataset, a.tier)}`")
     return 0
 
 

@@ -42,7 +42,7 @@ def _csv(path):
         return [{k: v for k, v in r.items() if k != "wall_s"} for r in csv.DictReader(fh)]
 
 
-@pytest.mark.parametrize("mode", ["continuation", "cold"])
+@pytest.mark.parametrize("mode", [pytest.param("continuation", marks=pytest.mark.slow), "cold"])   # ~15 s each
 def test_ray_executor_gives_the_rows_of_the_local_run(ray_session, mode):
     base = bearing_gym.default_params()
     with SerialExecutor() as ex:
@@ -69,6 +69,7 @@ def test_cli_sweep_backend_ray_matches_local(ray_session, tmp_path):
     assert _csv(tmp_path / "local.csv") == local
 
 
+@pytest.mark.slow          # ~25 s on 2 cores: a Ray instance started and stopped by the CLI (CI runs it)
 def test_console_script_starts_and_stops_its_own_ray_instance(tmp_path):
     out = tmp_path / "own.csv"
     env = dict(os.environ)
