@@ -77,15 +77,18 @@ def load_trained(model_dir: str | Path, algo: str | None = None,
     ``portable=True``: the same deterministic policy evaluated in float64 without torch
     (:class:`agents.policies.portable.PortablePolicy`; from ``portable_policy.npz`` if it was
     exported from the model files there now, else from the model's weights now): the same
-    actions, bit for bit, on every CPU. ValueError for an architecture it does not cover.
+    actions, bit for bit, on every CPU. NotPortableError (a ValueError) for an architecture it
+    does not cover.
 
     ``portable="auto"``: as the board loads every model: the portable path, and through torch
-    (with a warning: its actions are then statistical across CPUs) where that path raises
-    ValueError for the architecture."""
+    (with a warning: its actions are then statistical across CPUs) where that path does not
+    cover the architecture (:class:`agents.policies.portable.NotPortableError`); any other error
+    (a broken export, an unknown algorithm) is raised as it is."""
     if portable == "auto":
+        from agents.policies.portable import NotPortableError
         try:
             return load_trained(model_dir, algo, portable=True)
-        except ValueError as err:          # an architecture the portable path does not cover
+        except NotPortableError as err:    # an architecture the portable path does not cover (other errors: raised)
             warnings.warn(f"{model_dir}: {err}; evaluated through torch (statistical across CPUs)", stacklevel=2)
             return load_trained(model_dir, algo, portable=False)
     if portable:

@@ -170,8 +170,8 @@ def score_runs(algo: str, dataset: str, tier: str = "transient", root: Path = RU
     scored.save(path, algorithm=f"{algo.upper()} (d3rlpy, offline on {cfg['dataset']})", training_steps=0,
                 training_seeds=list(seeds), library="d3rlpy", library_version=cfg["library_version"],
                 code="agents/offline/d3rlpy_baselines.py",
-                notes=f"{cfg['gradient_steps']:,} gradient steps, batch {cfg['batch_size']}, on {cfg['transitions']:,} "
-                      "transitions; no env steps (offline)")
+                notes=f"{cfg['gradient_steps']:,} gradient steps, batch {cfg['batch_size']}, on a dataset of "
+                      f"{cfg['transitions']:,} steps; no env steps (offline)")
     return scored
 
 

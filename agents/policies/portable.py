@@ -45,6 +45,11 @@ PORTABLE_FILE = "portable_policy.npz"
 ACTIVATIONS = {"tanh": 0, "relu": 1}
 
 
+class NotPortableError(ValueError):
+    """The portable path does not cover this model's architecture (gSDE, a CNN extractor, ...):
+    ``load_trained(..., portable="auto")`` then loads it through torch."""
+
+
 @njit(cache=True)
 def _dense(w, b, x, activation):
     """activation(W x + b) in float64, summed in index order; activation -1 = none."""
@@ -116,9 +121,9 @@ def export_arrays(model, obs_rms=None, clip_obs: float = 10.0, epsilon: float = 
     arrays: dict[str, np.ndarray] = {}
     extractor = getattr(getattr(pol, "actor", pol), "features_extractor", None)
     if extractor is not None and not isinstance(extractor, FlattenExtractor):
-        raise ValueError(f"no portable path for a {type(extractor).__name__} features extractor (Flatten only)")
+        raise NotPortableError(f"no portable path for a {type(extractor).__name__} features extractor (Flatten only)")
     if getattr(model, "use_sde", False):
-        raise ValueError("no portable path for a policy trained with gSDE (use_sde=True)")
+        raise NotPortableError("no portable path for a policy trained with gSDE (use_sde=True)")
     if name in ("SACPolicy", "TQCPolicy", "CrossQPolicy"):
         seq, out, kind = pol.actor.latent_pi, pol.actor.mu, "sac"
     elif name in ("ActorCriticPolicy", "RecurrentActorCriticPolicy"):
@@ -127,11 +132,11 @@ def export_arrays(model, obs_rms=None, clip_obs: float = 10.0, epsilon: float = 
         if kind == "lstm":
             lstm = pol.lstm_actor
             if lstm.num_layers != 1:
-                raise ValueError(f"only a one-layer LSTM is supported, this one has {lstm.num_layers}")
+                raise NotPortableError(f"only a one-layer LSTM is supported, this one has {lstm.num_layers}")
             for key in ("weight_ih_l0", "weight_hh_l0", "bias_ih_l0", "bias_hh_l0"):
                 arrays[f"lstm_{key}"] = getattr(lstm, key).detach().cpu().double().numpy()
     else:
-        raise ValueError(f"no portable path for {name}: PPO, SAC, RecurrentPPO, TQC and CrossQ with MLP policies are "
+        raise NotPortableError(f"no portable path for {name}: PPO, SAC, RecurrentPPO, TQC and CrossQ with MLP policies are "
                          "supported")
     BatchRenorm = type(None)                   # noqa: N806 - a class no layer is, unless CrossQ's is loaded
     if name == "CrossQPolicy":
@@ -151,7 +156,7 @@ def export_arrays(model, obs_rms=None, clip_obs: float = 10.0, epsilon: float = 
     for i, layer in enumerate(layers):
         if isinstance(layer, BatchRenorm):
             if pending is not None:
-                raise ValueError(f"two batch-renormalisation layers in a row at layer {i}")
+                raise NotPortableError(f"two batch-renormalisation layers in a row at layer {i}")
             pending = _renorm_affine(layer)
             continue
         if not isinstance(layer, nn.Linear):
@@ -159,13 +164,13 @@ def export_arrays(model, obs_rms=None, clip_obs: float = 10.0, epsilon: float = 
         act = layers[i + 1] if i + 1 < len(layers) else None
         act_name = {nn.Tanh: "tanh", nn.ReLU: "relu"}.get(type(act))
         if act_name is None:
-            raise ValueError(f"unsupported activation after layer {i}: {type(act).__name__}")
+            raise NotPortableError(f"unsupported activation after layer {i}: {type(act).__name__}")
         arrays[f"hidden_{k}_w"], arrays[f"hidden_{k}_b"] = linear(layer)
         pending = None
         arrays[f"hidden_{k}_activation"] = np.array(ACTIVATIONS[act_name])
         k += 1
     if not isinstance(out, nn.Linear):
-        raise ValueError(f"no portable path for an action head of type {type(out).__name__}")
+        raise NotPortableError(f"no portable path for an action head of type {type(out).__name__}")
     arrays["out_w"], arrays["out_b"] = linear(out)
     arrays["kind"] = np.array(kind)
     arrays["action_low"] = np.asarray(model.action_space.low, dtype=np.float64)

@@ -42,7 +42,7 @@ def _csv(path):
         return [{k: v for k, v in r.items() if k != "wall_s"} for r in csv.DictReader(fh)]
 
 
-@pytest.mark.parametrize("mode", [pytest.param("continuation", marks=pytest.mark.slow), "cold"])   # ~15 s each
+@pytest.mark.parametrize("mode", [pytest.param("continuation", marks=pytest.mark.slow), "cold"])   # ~15 s each; cold stays in the default run
 def test_ray_executor_gives_the_rows_of_the_local_run(ray_session, mode):
     base = bearing_gym.default_params()
     with SerialExecutor() as ex:

@@ -153,3 +153,28 @@ def test_auto_loads_portable_where_covered_and_torch_with_a_warning_elsewhere(tm
     assert isinstance(policy, SB3Policy)
     a, _ = policy.predict(env.reset(seed=1)[0][None])
     assert a.shape == (1, 1) and np.all(np.abs(a) <= 1.0)
+
+
+def test_auto_raises_what_is_not_an_uncovered_architecture(tmp_path):
+    """``portable="auto"`` falls back to torch only for an architecture the portable path does not
+    cover: a broken export (an unknown policy kind) is reported as itself, not as a missing model.zip."""
+    import shutil
+
+    from agents.evaluation.trained import PRETRAINED_DIR as SHIPPED
+    d = tmp_path / "sac"
+    shutil.copytree(SHIPPED / "sac", d)
+    arrays = dict(np.load(d / "portable_policy.npz"))
+    arrays["kind"] = np.array("mlp2")
+    np.savez(d / "portable_policy.npz", **arrays)
+    with pytest.raises(ValueError, match="unknown portable policy kind 'mlp2'"):
+        load_trained(d, portable="auto")
+
+
+def test_a_path_on_the_board_is_loaded_as_the_board_loads_it(tmp_path):
+    """agents.submit's ``as_policy`` with a directory: the portable policy under the given name; a
+    directory without a model: FileNotFoundError naming both files it looked for."""
+    from agents.submit.adapters import as_policy
+    pol = as_policy(PRETRAINED_DIR / "sac", name="my SAC")
+    assert isinstance(pol, PortablePolicy) and pol.name == "my SAC"
+    with pytest.raises(FileNotFoundError, match="no model.zip and no portable_policy.npz"):
+        as_policy(tmp_path)
