@@ -195,9 +195,9 @@ def main(argv: list[str] | None = None) -> int:
             ap.error("--steps must be >= 1")
         print(train(a.algo, a.dataset, a.seed, a.steps, Path(a.root)))
     else:
-        print(score_runs(a.algo, a.dataset, a.tier, Path(a.root)).markdown())
-        print(f"wrote {default_submission(a.algo, a.dataset, a.tier)}; put it on the board with "
-              f"`python -m agents.submit add {default_submission(a.algo, a.dataset, a.tier)}`")
+        path = default_submission(a.algo, a.dataset, a.tier)
+        print(score_runs(a.algo, a.dataset, a.tier, Path(a.root), out=path).markdown())
+        print(f"wrote {path}; put it on the board with `python -m agents.submit add {path}`")
     return 0
 
 

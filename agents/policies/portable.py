@@ -136,8 +136,8 @@ def export_arrays(model, obs_rms=None, clip_obs: float = 10.0, epsilon: float = 
             for key in ("weight_ih_l0", "weight_hh_l0", "bias_ih_l0", "bias_hh_l0"):
                 arrays[f"lstm_{key}"] = getattr(lstm, key).detach().cpu().double().numpy()
     else:
-        raise NotPortableError(f"no portable path for {name}: PPO, SAC, RecurrentPPO, TQC and CrossQ with MLP policies are "
-                         "supported")
+        raise NotPortableError(f"no portable path for {name}: PPO, SAC, RecurrentPPO, TQC and CrossQ with MLP "
+                               "policies are supported")
     BatchRenorm = type(None)                   # noqa: N806 - a class no layer is, unless CrossQ's is loaded
     if name == "CrossQPolicy":
         from sb3_contrib.common.torch_layers import BatchRenorm
