@@ -126,9 +126,10 @@ def _score_bounds(tier: str, episodes: int, constant_n: float, constant_returns:
 
 def default_policies(tier: str, pretrained_dir: Path = PRETRAINED_DIR, store: Path = STORE_PATH) -> list:
     """The validation-chosen constant of ``tier`` (from ``store``), then the shipped policies
-    through the portable float64 path."""
+    through the portable float64 path (``load_trained(portable="auto")``, as the board loads them:
+    torch, with a warning, only for an architecture that path does not cover)."""
     choice = load_choice(tier, store)
-    return [ConstantPreload(choice.preload_n)] + [load_trained(d, portable=True) for d in shipped_dirs(pretrained_dir)]
+    return [ConstantPreload(choice.preload_n)] + [load_trained(d, portable="auto") for d in shipped_dirs(pretrained_dir)]
 
 
 def replica_path(out: Path, replica: int) -> Path:
