@@ -160,9 +160,8 @@ def test_auto_raises_what_is_not_an_uncovered_architecture(tmp_path):
     cover: a broken export (an unknown policy kind) is reported as itself, not as a missing model.zip."""
     import shutil
 
-    from agents.evaluation.trained import PRETRAINED_DIR as SHIPPED
     d = tmp_path / "sac"
-    shutil.copytree(SHIPPED / "sac", d)
+    shutil.copytree(PRETRAINED_DIR / "sac", d)
     arrays = dict(np.load(d / "portable_policy.npz"))
     arrays["kind"] = np.array("mlp2")
     np.savez(d / "portable_policy.npz", **arrays)
